@@ -1,0 +1,122 @@
+// tsuchi: the command-line program. `tsuchi run FILE` runs a model, `tsuchi check FILE` validates
+// it and prints what a run would do. Exit codes: 0 ok, 1 usage, 2 input, 3 run fault, 4 output.
+#include "progress.hpp"
+
+#include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/config_reader.hpp"
+#include "tsuchi/model/model.hpp"
+#include "tsuchi/solver/simulation.hpp"
+#include "tsuchi/solver/time_step.hpp"
+
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace {
+
+using namespace tsuchi;
+
+struct Options {
+  std::string file;
+  std::string output;
+  std::vector<std::string> overrides;
+  bool quiet = false;
+};
+
+template <int D>
+void print_summary(const Model<D>& m) {
+  const Config& c = m.config;
+  const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
+  const double dt = next_time_step(c.time, dt_crit, 0, c.source);
+  fmt::print("model      {}{}\n", c.source, c.title.empty() ? "" : fmt::format(" ({})", c.title));
+  fmt::print("dimension  {}\n", D == 2 ? "2 (plane strain)" : "3");
+  std::string cells, nodes;
+  for (int d = 0; d < D; ++d) {
+    cells += fmt::format("{}{}", d ? " x " : "", c.grid.cells[d]);
+  }
+  fmt::print("grid       {} cells of {} m, {} nodes\n", cells, m.grid.h, m.grid.size());
+  for (std::size_t b = 0; b < c.bodies.size(); ++b)
+    fmt::print("body       {:<16} {:>9} particles, material \"{}\"\n", c.bodies[b].name, m.body_particles[b],
+               c.bodies[b].material);
+  fmt::print("particles  {}\n", m.particles.size());
+  fmt::print("solver     {}, {} shape functions, PIC fraction {}, damping {}\n", to_string(c.solver.scheme),
+             to_string(c.solver.shape), c.solver.pic_fraction, c.solver.damping);
+  fmt::print("time step  {:.4g} s ({}; stable limit {:.4g} s)\n", dt,
+             c.time.courant ? fmt::format("Courant {}", *c.time.courant) : std::string("fixed"), dt_crit);
+  fmt::print("steps      about {:.0f} to t = {} s\n", std::ceil(c.time.end / dt), c.time.end);
+  const double frames = c.output.interval > 0 ? std::ceil(c.time.end / c.output.interval) + 1 : 2;
+  fmt::print("output     {} ({:.0f} frames{})\n", c.output.directory, c.output.write_frames ? frames : 0,
+             c.output.global_interval > 0 ? fmt::format(", global.csv every {} s", c.output.global_interval)
+                                          : ", global.csv every step");
+  fmt::print("memory     about {:.1f} MB\n", static_cast<double>(m.bytes()) / 1e6);
+}
+
+template <int D>
+int check(const Config& c) {
+  const Model<D> m = build_model<D>(c);
+  print_summary<D>(m);
+  fmt::print("input is valid\n");
+  return exit_code::ok;
+}
+
+template <int D>
+int run(const Config& c, const Options& o) {
+  Model<D> m = build_model<D>(c);
+  if (!o.quiet) print_summary<D>(m);
+  RunOptions ro;
+  if (!o.output.empty()) ro.output_directory = o.output;
+  app::ProgressReporter reporter(stderr);
+  Progress last;
+  ro.on_progress = [&](const Progress& p) {
+    last = p;
+    if (!o.quiet) reporter.update(p);
+  };
+  const RunSummary s = run_simulation<D>(m, ro);
+  if (!o.quiet) reporter.finish(last);
+  const double rate = s.wall_seconds > 0 ? static_cast<double>(s.steps) * static_cast<double>(m.particles.size()) / s.wall_seconds : 0.0;
+  fmt::print("done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s); {} frames in {}\n", s.steps,
+             s.time, s.wall_seconds, rate, s.frames, s.directory);
+  return exit_code::ok;
+}
+
+int dispatch(bool run_it, const Options& o) {
+  const Config c = read_config_file(o.file, o.overrides);
+  if (c.dimension == 2) return run_it ? run<2>(c, o) : check<2>(c);
+  return run_it ? run<3>(c, o) : check<3>(c);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"tsuchi: GIMP / MPM solver for large-deformation geomechanics"};
+  app.require_subcommand(1);
+  Options o;
+  auto* run_cmd = app.add_subcommand("run", "Run the model in an input file");
+  run_cmd->add_option("file", o.file, "Input file (TOML)")->required();
+  run_cmd->add_option("-o,--output", o.output, "Output directory (overrides output.directory)");
+  run_cmd->add_option("-s,--set", o.overrides, "Override an input key, e.g. --set time.end=0.5");
+  run_cmd->add_flag("-q,--quiet", o.quiet, "No summary or progress");
+  auto* check_cmd = app.add_subcommand("check", "Validate an input file and print the model summary");
+  check_cmd->add_option("file", o.file, "Input file (TOML)")->required();
+  check_cmd->add_option("-s,--set", o.overrides, "Override an input key");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? exit_code::ok : exit_code::usage;
+  }
+  try {
+    return dispatch(run_cmd->parsed(), o);
+  } catch (const InputError& e) {
+    fmt::print(stderr, "\nerror in input: {}\n", e.what());
+    return exit_code::input;
+  } catch (const RunError& e) {
+    fmt::print(stderr, "\nrun stopped: {}\n", e.what());
+    return exit_code::run;
+  } catch (const OutputError& e) {
+    fmt::print(stderr, "\noutput failed: {}\n", e.what());
+    return exit_code::output;
+  }
+}

@@ -1,0 +1,59 @@
+#include "progress.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <unistd.h>
+
+namespace tsuchi::app {
+
+namespace {
+std::string clock_text(double seconds) {
+  if (!(seconds >= 0.0) || seconds > 1e7) return "--:--:--";
+  const auto s = static_cast<long>(seconds + 0.5);
+  return fmt::format("{}:{:02d}:{:02d}", s / 3600, (s / 60) % 60, s % 60);
+}
+}  // namespace
+
+ProgressReporter::ProgressReporter(std::FILE* out)
+    : out_(out), tty_(::isatty(::fileno(out)) != 0), start_(std::chrono::steady_clock::now()), last_(start_) {}
+
+void ProgressReporter::update(const Progress& p) {
+  latest_ = p;
+  const auto now = std::chrono::steady_clock::now();
+  const double since = std::chrono::duration<double>(now - last_).count();
+  const double fraction = p.end_time > 0 ? p.time / p.end_time : 1.0;
+  // A terminal is redrawn 5 times a second; a log gets a line every 10 % or every 30 s.
+  const bool due = tty_ ? since > 0.2 : (fraction >= last_reported_fraction_ + 0.1 || since > 30.0);
+  if (!due) return;
+  last_ = now;
+  if (!tty_) last_reported_fraction_ = std::min(1.0, fraction);
+  print(p, false);
+}
+
+void ProgressReporter::finish(const Progress& p) {
+  print(p, true);
+  if (tty_) std::fputc('\n', out_);
+  std::fflush(out_);
+}
+
+void ProgressReporter::print(const Progress& p, bool final) {
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  const double fraction = p.end_time > 0 ? std::clamp(p.time / p.end_time, 0.0, 1.0) : 1.0;
+  const double steps_per_s = wall > 0 ? static_cast<double>(p.step) / wall : 0.0;
+  const double eta = fraction > 0 ? wall * (1.0 - fraction) / fraction : -1.0;
+  const std::string status =
+      fmt::format("{:5.1f}% step {} t={:.4g}/{:.4g} s dt={:.3g} s {:.0f} steps/s {} {}", 100.0 * fraction, p.step,
+                  p.time, p.end_time, p.dt, steps_per_s, final ? "elapsed" : "ETA",
+                  clock_text(final ? wall : eta));
+  if (tty_) {
+    constexpr int width = 24;
+    const int filled = static_cast<int>(fraction * width);
+    fmt::print(out_, "\r[{}{}] {}\x1b[K", std::string(filled, '#'), std::string(width - filled, '.'), status);
+  } else {
+    fmt::print(out_, "{}\n", status);
+  }
+  std::fflush(out_);
+}
+
+}  // namespace tsuchi::app

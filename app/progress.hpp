@@ -1,0 +1,27 @@
+#pragma once
+// Run progress on the console: a redrawn bar with steps/s and ETA on a terminal, plain periodic
+// lines otherwise (log files, CI), so a long run is never silent.
+#include "tsuchi/solver/simulation.hpp"
+
+#include <chrono>
+#include <cstdio>
+
+namespace tsuchi::app {
+
+class ProgressReporter {
+ public:
+  explicit ProgressReporter(std::FILE* out);
+  void update(const Progress& p);
+  void finish(const Progress& p);
+
+ private:
+  void print(const Progress& p, bool final);
+
+  std::FILE* out_;
+  bool tty_;
+  std::chrono::steady_clock::time_point start_, last_;
+  double last_reported_fraction_ = 0.0;
+  Progress latest_;
+};
+
+}  // namespace tsuchi::app

@@ -1,0 +1,34 @@
+#pragma once
+// Principal values of a symmetric tensor in Voigt storage, ascending (most compressive first).
+// In plane strain the zz component is itself principal, so only the in-plane 2x2 block needs solving.
+#include "tsuchi/core/tensor.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+
+namespace tsuchi {
+
+inline Eigen::Vector3d principal_values(const Voigt<2>& s) {
+  const double c = 0.5 * (s[0] + s[1]);
+  const double r = std::hypot(0.5 * (s[0] - s[1]), s[3]);
+  double v[3] = {c - r, c + r, s[2]};
+  std::sort(v, v + 3);
+  return {v[0], v[1], v[2]};
+}
+
+inline Eigen::Vector3d principal_values(const Voigt<3>& s) {
+  Eigen::SelfAdjointEigenSolver<Mat3> es;
+  es.computeDirect(to_matrix<3>(s), Eigen::EigenvaluesOnly);
+  return es.eigenvalues();  // ascending
+}
+
+// Maximum shear strain gamma_max = eps_1 - eps_3, the difference of the extreme principal strains.
+template <int D>
+double max_shear_strain(const Voigt<D>& eps) {
+  const Eigen::Vector3d e = principal_values(eps);
+  return e[2] - e[0];
+}
+
+}  // namespace tsuchi

@@ -1,0 +1,39 @@
+#pragma once
+// The files a run writes into its output directory:
+//   particles_NNNNNN.vtu  one frame per output interval (binary VTK XML)
+//   particles.pvd         the time series ParaView opens, listing only complete frames
+//   global.csv            time series of whole-model quantities
+// Every file is replaced atomically, so a run killed at any moment leaves only complete files.
+#include "tsuchi/model/model.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace tsuchi {
+
+template <int D>
+class OutputWriter {
+ public:
+  OutputWriter(const Model<D>& model, std::string directory);
+
+  void frame(double time);
+  void global_row(double time, std::int64_t step, double dt);
+  // Rewrites global.csv with all rows so far; done with every frame and at the end of a run (and
+  // by the run loop every half minute), not per row, so long runs do not rewrite it per step.
+  void flush_global();
+
+  const std::string& directory() const { return dir_; }
+  std::size_t frames_written() const { return frames_.size(); }
+
+ private:
+  const Model<D>& m_;
+  std::string dir_;
+  std::vector<std::pair<double, std::string>> frames_;
+  std::string csv_;
+};
+
+extern template class OutputWriter<2>;
+extern template class OutputWriter<3>;
+
+}  // namespace tsuchi

@@ -1,0 +1,25 @@
+#include "tsuchi/io/particle_fields.hpp"
+
+#include <algorithm>
+
+namespace tsuchi {
+
+const std::vector<std::string>& all_particle_fields() {
+  static const std::vector<std::string> names{
+      "id",     "displacement", "velocity", "stress",   "strain", "max_shear_strain",
+      "volume", "mass",         "density",  "material", "body"};
+  return names;
+}
+
+bool is_particle_field(const std::string& name) {
+  const auto& n = all_particle_fields();
+  return std::find(n.begin(), n.end(), name) != n.end();
+}
+
+std::string particle_field_list() {
+  std::string r;
+  for (const auto& n : all_particle_fields()) r += (r.empty() ? "\"" : ", \"") + n + "\"";
+  return r;
+}
+
+}  // namespace tsuchi

@@ -1,0 +1,23 @@
+#pragma once
+// VTK XML UnstructuredGrid (.vtu) documents of the particles, binary ("appended raw" with UInt64
+// block headers), one vertex cell per particle, and the .pvd collection that makes a time series
+// of them for ParaView.
+#include "tsuchi/model/model.hpp"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace tsuchi {
+
+// The whole .vtu file for the given fields (names from particle_fields.hpp).
+template <int D>
+std::string vtu_document(const Model<D>& model, const std::vector<std::string>& fields);
+
+// A .pvd listing (time, file name) pairs.
+std::string pvd_document(const std::vector<std::pair<double, std::string>>& frames);
+
+extern template std::string vtu_document<2>(const Model<2>&, const std::vector<std::string>&);
+extern template std::string vtu_document<3>(const Model<3>&, const std::vector<std::string>&);
+
+}  // namespace tsuchi

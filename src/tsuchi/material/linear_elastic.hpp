@@ -1,0 +1,43 @@
+#pragma once
+// Hooke's law in rate form (hypoelastic): d_sigma = lambda tr(d_eps) I + 2 G d_eps, eq (11).
+#include "tsuchi/core/tensor.hpp"
+
+namespace tsuchi {
+
+struct LinearElastic {
+  double K = 0.0;  // bulk modulus (Pa)
+  double G = 0.0;  // shear modulus (Pa)
+
+  static LinearElastic from_young(double E, double nu) {
+    return {E / (3.0 * (1.0 - 2.0 * nu)), E / (2.0 * (1.0 + nu))};
+  }
+  static LinearElastic from_shear(double G, double nu) {
+    return {2.0 * G * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu)), G};
+  }
+
+  double constrained_modulus() const { return K + 4.0 * G / 3.0; }
+
+  template <int D>
+  Voigt<D> stress_increment(const Voigt<D>& d_eps) const {
+    const double lambda_tr = (K - 2.0 * G / 3.0) * trace<D>(d_eps);
+    Voigt<D> ds = 2.0 * G * d_eps;
+    for (int i = 0; i < 3; ++i) ds[i] += lambda_tr;
+    return ds;
+  }
+
+  template <int D>
+  void update(Voigt<D>& sigma, const Voigt<D>& d_eps) const {
+    sigma += stress_increment<D>(d_eps);
+  }
+
+  // Recoverable elastic energy density of a stress state s: p^2 / 2K + s_dev : s_dev / 4G.
+  template <int D>
+  double energy_density(const Voigt<D>& s) const {
+    const double p = trace<D>(s) / 3.0;
+    Voigt<D> dev = s;
+    for (int i = 0; i < 3; ++i) dev[i] -= p;
+    return p * p / (2.0 * K) + contract<D>(dev, dev) / (4.0 * G);
+  }
+};
+
+}  // namespace tsuchi

@@ -1,0 +1,92 @@
+#pragma once
+// The whole input of a run as a typed, validated value. Read from a TOML file by
+// io/config_reader.hpp; vectors have `dimension` meaningful entries (the third is 0 in 2D).
+#include "tsuchi/material/material.hpp"
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tsuchi {
+
+using Triple = std::array<double, 3>;
+
+enum class Scheme { USF, USL, MUSL };
+enum class ShapeKind { Linear, UGimp, Gimp };
+enum class FaceCondition { Free, Roller, Fixed };
+
+struct GridConfig {
+  Triple origin{};
+  Triple extent{};
+  double cell_size = 0.0;
+  std::array<int, 3> cells{1, 1, 1};
+};
+
+struct BodyConfig {
+  std::string name;
+  std::string material;
+  int material_index = 0;
+  Triple min{}, max{};
+  std::array<int, 3> particles_per_cell{2, 2, 2};
+  Triple velocity{};
+  // Prescribed particle velocity (a loading platen): component d is held at
+  // prescribed_velocity[d] + sum_j prescribed_gradient[d][j] x_j when prescribed[d] is set.
+  std::array<bool, 3> prescribed{false, false, false};
+  Triple prescribed_velocity{};
+  std::array<Triple, 3> prescribed_gradient{};
+};
+
+struct NodeSetConfig {
+  Triple min{}, max{};
+  std::array<bool, 3> fix{false, false, false};
+};
+
+struct BoundaryConfig {
+  // faces[axis][0] is the lower face, [1] the upper one.
+  std::array<std::array<FaceCondition, 2>, 3> faces{};
+  std::vector<NodeSetConfig> node_sets;
+};
+
+struct SolverConfig {
+  Scheme scheme = Scheme::MUSL;
+  ShapeKind shape = ShapeKind::Gimp;
+  double pic_fraction = 0.0;       // 0 = pure FLIP, 1 = pure PIC
+  double damping = 0.0;            // Cundall local damping coefficient alpha, eq (20)
+  double mass_threshold = 1e-9;    // nodes lighter than this fraction of the lightest particle are skipped
+};
+
+struct TimeConfig {
+  double end = 0.0;
+  std::optional<double> courant;   // exactly one of courant and dt is set
+  std::optional<double> dt;
+  std::int64_t max_steps = 0;      // 0: no limit
+};
+
+struct OutputConfig {
+  std::string directory = "results";
+  double interval = 0.0;           // s between particle frames; 0 writes only the first and last
+  double global_interval = 0.0;    // s between rows of the global CSV; 0: every step
+  std::vector<std::string> fields;  // particle fields in the .vtu frames
+  bool write_frames = true;
+};
+
+struct Config {
+  std::string source;  // file the configuration came from, for messages
+  std::string title;
+  int dimension = 2;
+  Triple gravity{};
+  GridConfig grid;
+  std::vector<Material> materials;
+  std::vector<BodyConfig> bodies;
+  BoundaryConfig boundary;
+  SolverConfig solver;
+  TimeConfig time;
+  OutputConfig output;
+};
+
+const char* to_string(Scheme s);
+const char* to_string(ShapeKind s);
+
+}  // namespace tsuchi

@@ -1,0 +1,141 @@
+#include "tsuchi/model/model.hpp"
+
+#include "tsuchi/core/errors.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace tsuchi {
+
+namespace {
+
+template <int D>
+void set_boundary_conditions(const Config& c, Grid<D>& g) {
+  const std::size_t n = g.size();
+  for (std::size_t idx = 0; idx < n; ++idx) {
+    const auto ijk = g.ijk(static_cast<std::int64_t>(idx));
+    std::uint8_t mask = 0;
+    for (int d = 0; d < D; ++d)
+      for (int side = 0; side < 2; ++side) {
+        const bool on_face = side == 0 ? ijk[d] == 0 : ijk[d] == g.n_nodes[d] - 1;
+        if (!on_face) continue;
+        switch (c.boundary.faces[d][side]) {
+          case FaceCondition::Fixed: mask |= static_cast<std::uint8_t>((1u << D) - 1); break;
+          case FaceCondition::Roller: mask |= static_cast<std::uint8_t>(1u << d); break;
+          case FaceCondition::Free: break;
+        }
+      }
+    const Vec<D> x = g.position(ijk);
+    const double tol = 1e-9 * g.h;
+    for (const auto& set : c.boundary.node_sets) {
+      bool inside = true;
+      for (int d = 0; d < D; ++d) inside = inside && x[d] >= set.min[d] - tol && x[d] <= set.max[d] + tol;
+      if (!inside) continue;
+      for (int d = 0; d < D; ++d)
+        if (set.fix[d]) mask |= static_cast<std::uint8_t>(1u << d);
+    }
+    g.fixed_g[idx] = mask;
+  }
+}
+
+// Fills a box with particles on the lattice of spacing h / n per axis, aligned with the grid, so
+// that each particle stands for an equal share of the cell (the paper's "requirement 1").
+template <int D>
+void add_body(const Config& c, int body, Model<D>& m) {
+  const BodyConfig& b = c.bodies[body];
+  const Material& mat = c.materials[b.material_index];
+  Vec<D> spacing;
+  std::array<int, D> first{}, count{};
+  std::size_t total = 1;
+  for (int d = 0; d < D; ++d) {
+    spacing[d] = m.grid.h / b.particles_per_cell[d];
+    // Lattice points origin + (j + 1/2) spacing strictly inside [min, max].
+    const double lo = (b.min[d] - m.grid.origin[d]) / spacing[d] - 0.5;
+    const double hi = (b.max[d] - m.grid.origin[d]) / spacing[d] - 0.5;
+    first[d] = static_cast<int>(std::ceil(lo - 1e-9));
+    const int last = static_cast<int>(std::floor(hi - 1e-9));
+    count[d] = std::max(0, last - first[d] + 1);
+    total *= static_cast<std::size_t>(count[d]);
+  }
+  if (total == 0)
+    throw InputError(fmt::format("{}: body \"{}\" holds no particle: the box is thinner than the "
+                                 "particle spacing (cell_size / particles_per_cell)",
+                                 c.source, b.name));
+  double volume = 1.0;
+  for (int d = 0; d < D; ++d) volume *= spacing[d];
+
+  auto& p = m.particles;
+  const std::size_t start = p.size();
+  p.resize(start + total);
+  Vec<D> v0;
+  for (int d = 0; d < D; ++d) v0[d] = b.velocity[d];
+  std::size_t k = start;
+  std::array<int, D> j{};
+  for (std::size_t n = 0; n < total; ++n, ++k) {
+    std::size_t rest = n;
+    for (int d = 0; d < D; ++d) {
+      j[d] = first[d] + static_cast<int>(rest % static_cast<std::size_t>(count[d]));
+      rest /= static_cast<std::size_t>(count[d]);
+    }
+    for (int d = 0; d < D; ++d) p.x_p[k][d] = m.grid.origin[d] + (j[d] + 0.5) * spacing[d];
+    p.l_p[k] = 0.5 * spacing;
+    p.v_p[k] = v0;
+    p.V_p[k] = volume;
+    p.m_p[k] = mat.density * volume;
+    p.material_p[k] = b.material_index;
+    p.body_p[k] = body;
+    p.id_p[k] = static_cast<std::int32_t>(k);
+  }
+  m.body_particles.push_back(total);
+
+  BodyMotion<D> motion;
+  for (int d = 0; d < D; ++d) {
+    motion.prescribed[d] = b.prescribed[d];
+    motion.any = motion.any || b.prescribed[d];
+    motion.v0[d] = b.prescribed_velocity[d];
+    for (int e = 0; e < D; ++e) motion.grad(d, e) = b.prescribed_gradient[d][e];
+  }
+  // A prescribed component starts at its prescribed value.
+  for (std::size_t q = start; q < p.size(); ++q)
+    for (int d = 0; d < D; ++d)
+      if (motion.prescribed[d]) p.v_p[q][d] = motion.velocity(d, p.x_p[q]);
+  m.motion.push_back(motion);
+}
+
+}  // namespace
+
+template <int D>
+Model<D> build_model(const Config& c) {
+  if (c.dimension != D)
+    throw InputError(fmt::format("{}: model.dimension is {}, but a {}D model was asked for", c.source,
+                                 c.dimension, D));
+  Model<D> m;
+  m.config = c;
+  for (int d = 0; d < D; ++d) {
+    m.grid.origin[d] = c.grid.origin[d];
+    m.grid.n_nodes[d] = c.grid.cells[d] + 1;
+  }
+  m.grid.h = c.grid.cell_size;
+  const double nodes = [&] {
+    double n = 1;
+    for (int d = 0; d < D; ++d) n *= m.grid.n_nodes[d];
+    return n;
+  }();
+  if (nodes > 2e9)
+    throw InputError(fmt::format("{}: the grid has {:.3g} nodes; at most 2e9 are supported", c.source, nodes));
+  m.grid.allocate();
+  set_boundary_conditions(c, m.grid);
+  for (int b = 0; b < static_cast<int>(c.bodies.size()); ++b) add_body(c, b, m);
+
+  const auto& mp = m.particles.m_p;
+  m.node_mass_floor = c.solver.mass_threshold * *std::min_element(mp.begin(), mp.end());
+  return m;
+}
+
+template Model<2> build_model<2>(const Config&);
+template Model<3> build_model<3>(const Config&);
+
+}  // namespace tsuchi

@@ -1,0 +1,43 @@
+#pragma once
+// A model ready to step: the grid with its boundary conditions and the particles of every body,
+// built from a validated Config.
+#include "tsuchi/grid/grid.hpp"
+#include "tsuchi/model/config.hpp"
+#include "tsuchi/particles/particles.hpp"
+
+#include <vector>
+
+namespace tsuchi {
+
+// Per body: which velocity components are prescribed, v = v0 + grad . x (a loading platen).
+template <int D>
+struct BodyMotion {
+  std::array<bool, D> prescribed{};
+  Vec<D> v0 = Vec<D>::Zero();
+  Mat<D> grad = Mat<D>::Zero();
+  bool any = false;
+
+  double velocity(int d, const Vec<D>& x) const { return v0[d] + grad.row(d).dot(x); }
+};
+
+template <int D>
+struct Model {
+  Config config;
+  Grid<D> grid;
+  Particles<D> particles;
+  std::vector<BodyMotion<D>> motion;        // one per body
+  std::vector<std::size_t> body_particles;  // particle count per body
+  double node_mass_floor = 0.0;             // nodes lighter than this are skipped (kg)
+
+  std::size_t bytes() const {
+    return grid.bytes() + particles.size() * Particles<D>::bytes_per_particle();
+  }
+};
+
+template <int D>
+Model<D> build_model(const Config& config);
+
+extern template Model<2> build_model<2>(const Config&);
+extern template Model<3> build_model<3>(const Config&);
+
+}  // namespace tsuchi

@@ -1,0 +1,48 @@
+#pragma once
+// Material points as a structure of flat arrays, one array per field.
+#include "tsuchi/core/tensor.hpp"
+
+#include <cstdint>
+#include <vector>
+
+namespace tsuchi {
+
+template <int D>
+struct Particles {
+  std::vector<Vec<D>> x_p;        // position (m)
+  std::vector<Vec<D>> u_p;        // displacement from the initial position (m)
+  std::vector<Vec<D>> v_p;        // velocity (m/s)
+  std::vector<Vec<D>> l_p;        // GIMP half-widths per axis (m)
+  std::vector<double> m_p;        // mass (kg; per metre of thickness in 2D)
+  std::vector<double> V_p;        // volume (m^3; m^2 in 2D)
+  std::vector<Voigt<D>> sigma_p;  // Cauchy stress, tension positive (Pa)
+  std::vector<Voigt<D>> sigma0_p; // initial stress subtracted in the internal force, eq (2)
+  std::vector<Voigt<D>> eps_p;    // accumulated small strain, eq (10b)
+  std::vector<std::int32_t> material_p;
+  std::vector<std::int32_t> body_p;
+  std::vector<std::int32_t> id_p;  // stable identity, survives reordering
+
+  std::size_t size() const { return x_p.size(); }
+
+  void resize(std::size_t n) {
+    x_p.resize(n, Vec<D>::Zero());
+    u_p.resize(n, Vec<D>::Zero());
+    v_p.resize(n, Vec<D>::Zero());
+    l_p.resize(n, Vec<D>::Zero());
+    m_p.resize(n, 0.0);
+    V_p.resize(n, 0.0);
+    sigma_p.resize(n, Voigt<D>::Zero());
+    sigma0_p.resize(n, Voigt<D>::Zero());
+    eps_p.resize(n, Voigt<D>::Zero());
+    material_p.resize(n, 0);
+    body_p.resize(n, 0);
+    id_p.resize(n, 0);
+  }
+
+  static constexpr std::size_t bytes_per_particle() {
+    return 4 * sizeof(Vec<D>) + 2 * sizeof(double) + 3 * sizeof(Voigt<D>) +
+           3 * sizeof(std::int32_t);
+  }
+};
+
+}  // namespace tsuchi

@@ -1,0 +1,231 @@
+#include "tsuchi/solver/explicit_step.hpp"
+
+#include "tsuchi/core/errors.hpp"
+#include "tsuchi/shape/gimp.hpp"
+#include "tsuchi/shape/linear.hpp"
+#include "tsuchi/shape/stencil.hpp"
+#include "tsuchi/solver/damping.hpp"
+#include "tsuchi/solver/jaumann.hpp"
+#include "tsuchi/solver/particle_domain.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+namespace tsuchi {
+
+template <int D>
+void ExplicitSolver<D>::step(double dt) {
+  switch (m_.config.solver.shape) {
+    case ShapeKind::Linear: step_with<shape::LinearKernel>(dt); break;
+    case ShapeKind::UGimp:
+    case ShapeKind::Gimp: step_with<shape::GimpKernel>(dt); break;
+  }
+  time_ += dt;
+  ++steps_;
+}
+
+template <int D>
+template <class Kernel>
+void ExplicitSolver<D>::step_with(double dt) {
+  auto& g = m_.grid;
+  switch (m_.config.solver.scheme) {
+    case Scheme::USF:
+      p2g<Kernel>(true, false);
+      nodal_velocity();
+      update_stress<Kernel>(dt, g.v_g, false);
+      p2g<Kernel>(false, true);
+      solve_grid(dt);
+      g2p<Kernel>(dt, false, true);
+      break;
+    case Scheme::USL:
+      p2g<Kernel>(true, true);
+      nodal_velocity();
+      solve_grid(dt);
+      g2p<Kernel>(dt, false, false);
+      update_stress<Kernel>(dt, g.vL_g, true);
+      break;
+    case Scheme::MUSL:
+      p2g<Kernel>(true, true);
+      nodal_velocity();
+      solve_grid(dt);
+      g2p<Kernel>(dt, true, false);
+      nodal_velocity();
+      update_stress<Kernel>(dt, g.v_g, true);
+      break;
+  }
+  report_escape();
+}
+
+// Particle to grid, eqs (1)-(3): mass, momentum, and f_int = -sum V_p (sigma_p - sigma0_p) . G,
+// f_ext = sum S m_p b.
+template <int D>
+template <class Kernel>
+void ExplicitSolver<D>::p2g(bool mass_momentum, bool force) {
+  auto& g = m_.grid;
+  const auto& p = m_.particles;
+  if (mass_momentum) {
+    std::fill(g.m_g.begin(), g.m_g.end(), 0.0);
+    std::fill(g.p_g.begin(), g.p_g.end(), Vec<D>::Zero());
+  }
+  if (force) std::fill(g.f_g.begin(), g.f_g.end(), Vec<D>::Zero());
+  Vec<D> b;
+  for (int d = 0; d < D; ++d) b[d] = m_.config.gravity[d];
+  Stencil<D, Kernel> st;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    st.compute(g, p.x_p[i], p.l_p[i]);
+    const double m = p.m_p[i];
+    const Mat3 s = to_matrix<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i]));
+    const Mat<D> stress = s.template topLeftCorner<D, D>();
+    const Vec<D> mv = m * p.v_p[i];
+    const Vec<D> mb = m * b;
+    const double V = p.V_p[i];
+    for (int n = 0; n < st.N; ++n) {
+      const auto k = st.node[n];
+      if (mass_momentum) {
+        g.m_g[k] += st.S[n] * m;
+        g.p_g[k] += st.S[n] * mv;
+      }
+      if (force) g.f_g[k] += st.S[n] * mb - V * (stress * st.G[n]);
+    }
+  }
+}
+
+// v_g = p_g / m_g on nodes heavier than the floor, then the velocity boundary conditions.
+template <int D>
+void ExplicitSolver<D>::nodal_velocity() {
+  auto& g = m_.grid;
+  const double floor = m_.node_mass_floor;
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    Vec<D> v = g.m_g[k] > floor ? Vec<D>(g.p_g[k] / g.m_g[k]) : Vec<D>::Zero();
+    for (int d = 0; d < D; ++d)
+      if (g.fixed_g[k] & (1u << d)) v[d] = 0.0;
+    g.v_g[k] = v;
+  }
+}
+
+// Grid momentum balance, eq (4), with local damping and boundary conditions:
+// a_g = (f + f_damp) / m_g, v^L = v_g + dt a_g.
+template <int D>
+void ExplicitSolver<D>::solve_grid(double dt) {
+  auto& g = m_.grid;
+  const double alpha = m_.config.solver.damping;
+  const double floor = m_.node_mass_floor;
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    Vec<D> a = Vec<D>::Zero();
+    if (g.m_g[k] > floor) {
+      for (int d = 0; d < D; ++d) {
+        const double f = g.f_g[k][d];
+        a[d] = (f + local_damping_force(f, g.v_g[k][d], alpha)) / g.m_g[k];
+        if (g.fixed_g[k] & (1u << d)) a[d] = 0.0;
+      }
+    }
+    g.a_g[k] = a;
+    g.vL_g[k] = g.v_g[k] + dt * a;
+  }
+}
+
+// Grid to particle, eqs (7)-(8): FLIP v_p += dt sum S a_g, blended with PIC sum S v^L when asked.
+// Prescribed components are then set (their acceleration is zero). With `remap` the updated
+// particle momenta are projected back to the grid, eq (9) (MUSL). With `move`, eqs (5)-(6).
+template <int D>
+template <class Kernel>
+void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
+  auto& g = m_.grid;
+  auto& p = m_.particles;
+  const double beta = m_.config.solver.pic_fraction;
+  if (remap) std::fill(g.p_g.begin(), g.p_g.end(), Vec<D>::Zero());
+  Stencil<D, Kernel> st;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    st.compute(g, p.x_p[i], p.l_p[i]);
+    Vec<D> a = Vec<D>::Zero(), vL = Vec<D>::Zero();
+    for (int n = 0; n < st.N; ++n) {
+      a += st.S[n] * g.a_g[st.node[n]];
+      vL += st.S[n] * g.vL_g[st.node[n]];
+    }
+    Vec<D> v = p.v_p[i] + dt * a;
+    if (beta > 0.0) v = (1.0 - beta) * v + beta * vL;
+    const auto& motion = m_.motion[p.body_p[i]];
+    if (motion.any)
+      for (int d = 0; d < D; ++d)
+        if (motion.prescribed[d]) v[d] = motion.velocity(d, p.x_p[i]);
+    p.v_p[i] = v;
+    if (remap) {
+      const Vec<D> mv = p.m_p[i] * v;
+      for (int n = 0; n < st.N; ++n) g.p_g[st.node[n]] += st.S[n] * mv;
+    }
+    if (move) {
+      p.x_p[i] += dt * vL;
+      p.u_p[i] += dt * vL;
+      check_inside(i);
+    }
+  }
+}
+
+// Strain and spin increments from the grid velocity, eq (10); Jaumann rotation (22) and the
+// constitutive update (11); volume (12), GIMP domain (14); with `move` also positions (5)-(6).
+// The material is chosen once per material group, outside the particle loop.
+template <int D>
+template <class Kernel>
+void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_strain, bool move) {
+  auto& g = m_.grid;
+  auto& p = m_.particles;
+  const bool domain_update = m_.config.solver.shape == ShapeKind::Gimp;
+  const auto& materials = m_.config.materials;
+  for (std::size_t mat = 0; mat < materials.size(); ++mat) {
+    std::visit(
+        [&](const auto& model) {
+          Stencil<D, Kernel> st;
+          for (std::size_t i = 0; i < p.size(); ++i) {
+            if (p.material_p[i] != static_cast<std::int32_t>(mat)) continue;
+            st.compute(g, p.x_p[i], p.l_p[i]);
+            Mat<D> L = Mat<D>::Zero();
+            Vec<D> vL = Vec<D>::Zero();
+            for (int n = 0; n < st.N; ++n) {
+              L += v_strain[st.node[n]] * st.G[n].transpose();
+              if (move) vL += st.S[n] * g.vL_g[st.node[n]];
+            }
+            const Voigt<D> d_eps = dt * sym_voigt<D>(L);
+            const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
+            jaumann_rotate(p.sigma_p[i], d_omega);
+            model.template update<D>(p.sigma_p[i], d_eps);
+            p.eps_p[i] += d_eps;
+            p.V_p[i] *= 1.0 + trace<D>(d_eps);
+            if (domain_update) update_particle_domain<D>(p.l_p[i], d_eps, g.h);
+            if (move) {
+              p.x_p[i] += dt * vL;
+              p.u_p[i] += dt * vL;
+              check_inside(i);
+            }
+          }
+        },
+        materials[mat].model);
+  }
+}
+
+template <int D>
+void ExplicitSolver<D>::check_inside(std::size_t i) {
+  const auto& x = m_.particles.x_p[i];
+  const Vec<D> hi = m_.grid.upper();
+  bool inside = true;
+  for (int d = 0; d < D; ++d) inside = inside && x[d] >= m_.grid.origin[d] && x[d] <= hi[d];
+  if (!inside && escaped_ < 0) escaped_ = static_cast<std::int64_t>(i);
+}
+
+template <int D>
+void ExplicitSolver<D>::report_escape() const {
+  if (escaped_ < 0) return;
+  const auto& p = m_.particles;
+  const auto i = static_cast<std::size_t>(escaped_);
+  std::string pos;
+  for (int d = 0; d < D; ++d) pos += fmt::format("{}{:.6g}", d ? ", " : "", p.x_p[i][d]);
+  throw RunError(fmt::format(
+      "step {} (t = {:.6g} s): particle {} of body \"{}\" left the grid at ({}); "
+      "enlarge grid.extent or fix the boundary it crossed",
+      steps_ + 1, time_, p.id_p[i], m_.config.bodies[p.body_p[i]].name, pos));
+}
+
+template class ExplicitSolver<2>;
+template class ExplicitSolver<3>;
+
+}  // namespace tsuchi

@@ -1,0 +1,47 @@
+#pragma once
+// One explicit MPM step (METHOD.md section 1) as a short list of stages over whole arrays.
+// The three schemes differ only in where the stress update sits and which grid velocity it uses:
+//   USF : p2g(m, p) -> v_g -> stress(v_g) -> p2g(f) -> solve -> g2p + move
+//   USL : p2g(m, p, f) -> v_g -> solve -> g2p -> stress(v^L) + move
+//   MUSL: p2g(m, p, f) -> v_g -> solve -> g2p + remap -> v_g -> stress(v_g) + move
+// Every stage evaluates S and G at the positions of the start of the step: particles move only in
+// the last stage.
+#include "tsuchi/model/model.hpp"
+
+#include <cstdint>
+
+namespace tsuchi {
+
+template <int D>
+class ExplicitSolver {
+ public:
+  explicit ExplicitSolver(Model<D>& model) : m_(model) {}
+
+  // Advances by dt. Throws RunError if a particle leaves the grid.
+  void step(double dt);
+
+  double time() const { return time_; }
+  std::int64_t steps() const { return steps_; }
+  Model<D>& model() { return m_; }
+  const Model<D>& model() const { return m_; }
+
+ private:
+  template <class Kernel> void step_with(double dt);
+  template <class Kernel> void p2g(bool mass_momentum, bool force);
+  void nodal_velocity();
+  void solve_grid(double dt);
+  template <class Kernel> void g2p(double dt, bool remap, bool move);
+  template <class Kernel> void update_stress(double dt, const std::vector<Vec<D>>& v_strain, bool move);
+  void check_inside(std::size_t i);
+  void report_escape() const;
+
+  Model<D>& m_;
+  double time_ = 0.0;
+  std::int64_t steps_ = 0;
+  std::int64_t escaped_ = -1;  // first particle found outside the grid in this step
+};
+
+extern template class ExplicitSolver<2>;
+extern template class ExplicitSolver<3>;
+
+}  // namespace tsuchi

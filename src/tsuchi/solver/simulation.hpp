@@ -1,0 +1,48 @@
+#pragma once
+// The time loop of a run: picks each step's dt, steps, and hands results to the output writer on
+// schedule. Output times and the end time are hit exactly (the step before is shortened).
+#include "tsuchi/model/model.hpp"
+#include "tsuchi/solver/explicit_step.hpp"
+
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace tsuchi {
+
+struct Progress {
+  std::int64_t step = 0;
+  double time = 0.0;
+  double end_time = 0.0;
+  double dt = 0.0;
+  std::size_t frames = 0;
+};
+
+struct RunOptions {
+  std::optional<std::string> output_directory;     // overrides output.directory
+  std::function<void(const Progress&)> on_progress;  // called after every step
+  bool write_output = true;
+};
+
+struct RunSummary {
+  std::int64_t steps = 0;
+  double time = 0.0;
+  double wall_seconds = 0.0;
+  std::size_t frames = 0;
+  std::string directory;
+};
+
+// The step size for the next step from the time settings and the current critical step;
+// throws InputError (at step 0) or RunError (later) if a fixed dt exceeds the stable limit.
+double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step, const std::string& source);
+
+template <int D>
+RunSummary run_simulation(Model<D>& model, const RunOptions& options,
+                          const std::function<void(const ExplicitSolver<D>&)>& after_step = {});
+
+extern template RunSummary run_simulation<2>(Model<2>&, const RunOptions&,
+                                             const std::function<void(const ExplicitSolver<2>&)>&);
+extern template RunSummary run_simulation<3>(Model<3>&, const RunOptions&,
+                                             const std::function<void(const ExplicitSolver<3>&)>&);
+
+}  // namespace tsuchi

@@ -1,6 +1,7 @@
 #include "tsuchi/io/config_reader.hpp"
 
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/core/expression.hpp"
 #include "tsuchi/io/particle_fields.hpp"
 
 #include <fmt/format.h>
@@ -330,6 +331,30 @@ void read_velocity_components(Section& s, std::string_view key, int dim, BodyCon
   v.finish();
 }
 
+// Each component a number (m/s) or a formula of x, y, z in quotes, e.g. "0.1 * sin(pi * x / 2)".
+void read_initial_velocity(Section& s, int dim, BodyConfig& b) {
+  const toml::node* n = s.get("velocity");
+  if (!n) return;
+  const std::string expected = "numbers (m/s) or formulas of x, y, z in quotes";
+  auto a = n->as_array();
+  if (!a || static_cast<int>(a->size()) != dim)
+    s.fail("velocity", fmt::format("expected an array of {} {}, got {}", dim, expected,
+                                   a ? fmt::format("{} entries", a->size()) : describe(*n)));
+  for (int d = 0; d < dim; ++d) {
+    const toml::node& e = *a->get(static_cast<std::size_t>(d));
+    if (auto f = e.as_string()) {
+      try {
+        Expression{f->get()};
+      } catch (const std::invalid_argument& err) {
+        s.fail("velocity", fmt::format("entry {} \"{}\" is not a valid formula: {}", d + 1, f->get(), err.what()));
+      }
+      b.velocity_formula[d] = f->get();
+    } else {
+      b.velocity[d] = s.number_of("velocity", e, expected);
+    }
+  }
+}
+
 void read_body(Section& s, Config& c, std::size_t index) {
   const int dim = c.dimension;
   BodyConfig b;
@@ -373,7 +398,7 @@ void read_body(Section& s, Config& c, std::size_t index) {
       s.fail("particles_per_cell", fmt::format("expected {}, got {}", expected, describe(*n)));
     }
   }
-  b.velocity = s.vector("velocity", dim, "m/s", any, Triple{});
+  read_initial_velocity(s, dim, b);
   read_velocity_components(s, "prescribed_velocity", dim, b);
   if (const toml::table* t = s.table("prescribed_velocity_gradient")) {
     Section g(*t, s.key_path("prescribed_velocity_gradient"), s.file());

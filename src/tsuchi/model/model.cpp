@@ -1,6 +1,7 @@
 #include "tsuchi/model/model.hpp"
 
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/core/expression.hpp"
 
 #include <fmt/format.h>
 
@@ -88,6 +89,14 @@ void add_body(const Config& c, int body, Model<D>& m) {
     p.material_p[k] = b.material_index;
     p.body_p[k] = body;
     p.id_p[k] = static_cast<std::int32_t>(k);
+  }
+  for (int d = 0; d < D; ++d) {
+    if (b.velocity_formula[d].empty()) continue;
+    const Expression f(b.velocity_formula[d]);
+    for (std::size_t q = start; q < p.size(); ++q) {
+      const auto& x = p.x_p[q];
+      p.v_p[q][d] = f(x[0], x[1], D == 3 ? x[D - 1] : 0.0);
+    }
   }
   m.body_particles.push_back(total);
 

@@ -145,20 +145,13 @@ void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
     }
     Vec<D> v = p.v_p[i] + dt * a;
     if (beta > 0.0) v = (1.0 - beta) * v + beta * vL;
-    const auto& motion = m_.motion[p.body_p[i]];
-    if (motion.any)
-      for (int d = 0; d < D; ++d)
-        if (motion.prescribed[d]) v[d] = motion.velocity(d, p.x_p[i]);
+    impose_motion(i, v);
     p.v_p[i] = v;
     if (remap) {
       const Vec<D> mv = p.m_p[i] * v;
       for (int n = 0; n < st.N; ++n) g.p_g[st.node[n]] += st.S[n] * mv;
     }
-    if (move) {
-      p.x_p[i] += dt * vL;
-      p.u_p[i] += dt * vL;
-      check_inside(i);
-    }
+    if (move) move_particle(i, dt, vL);
   }
 }
 
@@ -192,20 +185,31 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
             p.eps_p[i] += d_eps;
             p.V_p[i] *= 1.0 + trace<D>(d_eps);
             if (domain_update) update_particle_domain<D>(p.l_p[i], d_eps, g.h);
-            if (move) {
-              p.x_p[i] += dt * vL;
-              p.u_p[i] += dt * vL;
-              check_inside(i);
-            }
+            if (move) move_particle(i, dt, vL);
           }
         },
         materials[mat].model);
   }
 }
 
+// Prescribed components take the prescribed value, evaluated at the start-of-step position.
 template <int D>
-void ExplicitSolver<D>::check_inside(std::size_t i) {
-  const auto& x = m_.particles.x_p[i];
+void ExplicitSolver<D>::impose_motion(std::size_t i, Vec<D>& v) const {
+  const auto& motion = m_.motion[m_.particles.body_p[i]];
+  if (!motion.any) return;
+  for (int d = 0; d < D; ++d)
+    if (motion.prescribed[d]) v[d] = motion.velocity(d, m_.particles.x_p[i]);
+}
+
+// Eqs (5)-(6) with the interpolated v^L; a prescribed component moves the particle at exactly the
+// prescribed velocity, so a loading platen travels as specified whatever the soil beneath it does.
+template <int D>
+void ExplicitSolver<D>::move_particle(std::size_t i, double dt, Vec<D> vL) {
+  auto& p = m_.particles;
+  impose_motion(i, vL);
+  p.x_p[i] += dt * vL;
+  p.u_p[i] += dt * vL;
+  const auto& x = p.x_p[i];
   const Vec<D> hi = m_.grid.upper();
   bool inside = true;
   for (int d = 0; d < D; ++d) inside = inside && x[d] >= m_.grid.origin[d] && x[d] <= hi[d];

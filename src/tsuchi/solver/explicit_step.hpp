@@ -32,7 +32,8 @@ class ExplicitSolver {
   void solve_grid(double dt);
   template <class Kernel> void g2p(double dt, bool remap, bool move);
   template <class Kernel> void update_stress(double dt, const std::vector<Vec<D>>& v_strain, bool move);
-  void check_inside(std::size_t i);
+  void impose_motion(std::size_t i, Vec<D>& v) const;
+  void move_particle(std::size_t i, double dt, Vec<D> vL);
   void report_escape() const;
 
   Model<D>& m_;

@@ -1,0 +1,40 @@
+#include "tsuchi/core/expression.hpp"
+
+#include <muParser.h>
+
+#include <numbers>
+#include <stdexcept>
+
+namespace tsuchi {
+
+struct Expression::Impl {
+  mu::Parser parser;
+  // muparser binds variables by address; they live here and are set before each evaluation.
+  double x = 0.0, y = 0.0, z = 0.0;
+};
+
+Expression::Expression(const std::string& formula) : impl_(std::make_unique<Impl>()) {
+  try {
+    impl_->parser.DefineVar("x", &impl_->x);
+    impl_->parser.DefineVar("y", &impl_->y);
+    impl_->parser.DefineVar("z", &impl_->z);
+    impl_->parser.DefineConst("pi", std::numbers::pi);
+    impl_->parser.SetExpr(formula);
+    impl_->parser.Eval();  // parses now, so a bad formula fails at input time
+  } catch (const mu::Parser::exception_type& e) {
+    throw std::invalid_argument(e.GetMsg());
+  }
+}
+
+Expression::~Expression() = default;
+Expression::Expression(Expression&&) noexcept = default;
+Expression& Expression::operator=(Expression&&) noexcept = default;
+
+double Expression::operator()(double x, double y, double z) const {
+  impl_->x = x;
+  impl_->y = y;
+  impl_->z = z;
+  return impl_->parser.Eval();
+}
+
+}  // namespace tsuchi

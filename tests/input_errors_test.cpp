@@ -1,0 +1,505 @@
+// Input validation: every bad input is refused with an InputError whose message names the file,
+// the line (where there is one), the key and what was expected; and the `tsuchi` program maps the
+// error kinds to exit codes (2 input, 3 run fault) without leaving broken output behind.
+#include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/config_reader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+using tsuchi::InputError;
+using tsuchi::read_config_string;
+
+const std::string kValid = R"([model]
+dimension = 2
+gravity = [0.0, -9.81]
+
+[grid]
+origin = [0.0, 0.0]
+extent = [1.0, 0.5]
+cell_size = 0.1
+
+[[materials]]
+name = "soil"
+model = "linear_elastic"
+density = 2000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+
+[[bodies]]
+name = "block"
+material = "soil"
+min = [0.2, 0.0]
+max = [0.6, 0.3]
+particles_per_cell = 2
+
+[time]
+end = 0.01
+courant = 0.5
+
+[output]
+directory = "out"
+)";
+
+// 1-based line of the first line of `text` that contains `needle`.
+int line_of(const std::string& text, const std::string& needle) {
+  std::istringstream in(text);
+  std::string line;
+  for (int n = 1; std::getline(in, line); ++n)
+    if (line.find(needle) != std::string::npos) return n;
+  ADD_FAILURE() << "'" << needle << "' not in the input";
+  return -1;
+}
+
+// `text` with the first occurrence of `from` replaced by `to` (which must exist).
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  if (pos == std::string::npos) {
+    ADD_FAILURE() << "'" << from << "' not in the input";
+    return text;
+  }
+  return text.replace(pos, from.size(), to);
+}
+
+// The message of the InputError that reading `text` throws ("" and a test failure if none).
+std::string input_error(const std::string& text, const std::vector<std::string>& overrides = {}) {
+  try {
+    read_config_string(text, "case.toml", overrides);
+  } catch (const InputError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "threw something other than InputError: " << e.what();
+    return {};
+  }
+  ADD_FAILURE() << "accepted an invalid input";
+  return {};
+}
+
+std::string at_line(int line) { return "case.toml:" + std::to_string(line) + ":"; }
+
+// The message contains every one of `parts`.
+void expect_message(const std::string& msg, const std::vector<std::string>& parts) {
+  for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "'" << p << "' missing from: " << msg;
+}
+
+// ---- the valid file ------------------------------------------------------------------------
+
+TEST(InputValid, ParsesExpectedValues) {
+  const tsuchi::Config c = read_config_string(kValid, "case.toml");
+  EXPECT_EQ(c.source, "case.toml");
+  EXPECT_EQ(c.dimension, 2);
+  EXPECT_DOUBLE_EQ(c.gravity[1], -9.81);
+  EXPECT_EQ(c.grid.cells[0], 10);
+  EXPECT_EQ(c.grid.cells[1], 5);
+  EXPECT_DOUBLE_EQ(c.grid.cell_size, 0.1);
+  ASSERT_EQ(c.materials.size(), 1u);
+  EXPECT_EQ(c.materials[0].name, "soil");
+  EXPECT_DOUBLE_EQ(c.materials[0].density, 2000.0);
+  const auto& le = std::get<tsuchi::LinearElastic>(c.materials[0].model);
+  const double E = 1.0e7, nu = 0.3;
+  EXPECT_NEAR(le.G, E / (2.0 * (1.0 + nu)), 1e-6);
+  EXPECT_NEAR(le.K, E / (3.0 * (1.0 - 2.0 * nu)), 1e-6);
+  ASSERT_EQ(c.bodies.size(), 1u);
+  EXPECT_EQ(c.bodies[0].name, "block");
+  EXPECT_EQ(c.bodies[0].material_index, 0);
+  EXPECT_DOUBLE_EQ(c.bodies[0].max[0], 0.6);
+  EXPECT_EQ(c.bodies[0].particles_per_cell[0], 2);
+  EXPECT_EQ(c.bodies[0].particles_per_cell[1], 2);
+  EXPECT_DOUBLE_EQ(c.time.end, 0.01);
+  ASSERT_TRUE(c.time.courant.has_value());
+  EXPECT_DOUBLE_EQ(*c.time.courant, 0.5);
+  EXPECT_FALSE(c.time.dt.has_value());
+  EXPECT_EQ(c.output.directory, "out");
+  // Defaults.
+  EXPECT_EQ(c.solver.scheme, tsuchi::Scheme::MUSL);
+  EXPECT_EQ(c.solver.shape, tsuchi::ShapeKind::Gimp);
+}
+
+TEST(InputValid, OverrideChangesValues) {
+  const tsuchi::Config c = read_config_string(
+      kValid, "case.toml", {"grid.cell_size=0.05", "time.end=0.5", "bodies.0.velocity=[1.5, -2.0]", "solver.scheme=\"usl\""});
+  EXPECT_DOUBLE_EQ(c.grid.cell_size, 0.05);
+  EXPECT_EQ(c.grid.cells[0], 20);
+  EXPECT_EQ(c.grid.cells[1], 10);
+  EXPECT_DOUBLE_EQ(c.time.end, 0.5);
+  EXPECT_DOUBLE_EQ(c.bodies[0].velocity[0], 1.5);
+  EXPECT_DOUBLE_EQ(c.bodies[0].velocity[1], -2.0);
+  EXPECT_EQ(c.solver.scheme, tsuchi::Scheme::USL);
+}
+
+// ---- syntax and structure ------------------------------------------------------------------
+
+TEST(InputErrors, MalformedToml) {
+  const std::string text = replace(kValid, "cell_size = 0.1", "cell_size = = 0.1");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "cell_size"))});
+}
+
+TEST(InputErrors, MalformedTomlUnclosedArray) {
+  const std::string text = replace(kValid, "max = [0.6, 0.3]", "max = [0.6, 0.3");
+  const std::string msg = input_error(text);
+  EXPECT_EQ(msg.rfind("case.toml:", 0), 0u) << msg;
+}
+
+TEST(InputErrors, MissingCellSize) {
+  const std::string text = replace(kValid, "cell_size = 0.1\n", "");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "[grid]")), "missing", "grid.cell_size", "positive length"});
+}
+
+TEST(InputErrors, MissingTimeEnd) {
+  const std::string text = replace(kValid, "end = 0.01\n", "");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "[time]")), "missing", "time.end", "positive time"});
+}
+
+TEST(InputErrors, MissingDimension) {
+  const std::string text = replace(kValid, "dimension = 2\n", "");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "[model]")), "missing", "model.dimension", "2 (plane strain) or 3"});
+}
+
+TEST(InputErrors, UnknownKeyTopLevel) {
+  const std::string text = "colour = \"red\"\n" + kValid;
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(1), "unknown key", "'colour'"});
+}
+
+TEST(InputErrors, UnknownKeyInTableWithHint) {
+  const std::string text = replace(kValid, "cell_size = 0.1", "cell_size = 0.1\ncell_sise = 0.1");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "cell_sise")), "unknown key", "grid.cell_sise", "did you mean 'cell_size'"});
+}
+
+TEST(InputErrors, UnknownKeyInArrayOfTablesEntry) {
+  const std::string text = replace(kValid, "particles_per_cell = 2", "particles_per_cell = 2\ncolour = \"red\"");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "colour")), "unknown key", "bodies.0.colour"});
+}
+
+TEST(InputErrors, StringWhereNumber) {
+  const std::string text = replace(kValid, "cell_size = 0.1", "cell_size = \"0.1\"");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "cell_size")), "grid.cell_size", "expected a positive length", "\"0.1\""});
+}
+
+TEST(InputErrors, NumberWhereArray) {
+  const std::string text = replace(kValid, "origin = [0.0, 0.0]", "origin = 0.0");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "origin")), "grid.origin", "expected an array of 2 numbers"});
+}
+
+TEST(InputErrors, ArrayOfWrongLength) {
+  const std::string text = replace(kValid, "gravity = [0.0, -9.81]", "gravity = [0.0, -9.81, 0.0]");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "gravity")), "model.gravity", "array of 2 numbers", "3 entries"});
+}
+
+// ---- ranges --------------------------------------------------------------------------------
+
+TEST(InputErrors, ZeroCellSize) {
+  const std::string text = replace(kValid, "cell_size = 0.1", "cell_size = 0");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "cell_size")), "grid.cell_size", "positive", "got 0"});
+}
+
+TEST(InputErrors, NegativeExtent) {
+  const std::string text = replace(kValid, "extent = [1.0, 0.5]", "extent = [1.0, -0.5]");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "extent")), "grid.extent", "positive lengths", "-0.5", "entry 2"});
+}
+
+TEST(InputErrors, ExtentNotWholeCells) {
+  const std::string text = replace(kValid, "extent = [1.0, 0.5]", "extent = [1.05, 0.5]");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "extent")), "grid.extent", "whole number of cells", "along x"});
+}
+
+TEST(InputErrors, BodyOutsideGrid) {
+  const std::string text = replace(kValid, "max = [0.6, 0.3]", "max = [1.2, 0.3]");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "max = [1.2")), "bodies.0.max", "outside the grid", "\"block\""});
+}
+
+TEST(InputErrors, BodyMaxNotAboveMin) {
+  const std::string text = replace(kValid, "max = [0.6, 0.3]", "max = [0.6, 0.0]");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "max = [0.6, 0.0]")), "bodies.0.max", "expected max > min", "along y"});
+}
+
+TEST(InputErrors, UnknownMaterialInBody) {
+  const std::string text = replace(kValid, "material = \"soil\"", "material = \"sand\"");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "\"sand\"")), "bodies.0.material", "expected one of the materials", "\"soil\"", "\"sand\""});
+}
+
+TEST(InputErrors, UnknownConstitutiveModel) {
+  const std::string text = replace(kValid, "model = \"linear_elastic\"", "model = \"mohr_coulomb\"");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "mohr_coulomb")), "materials.0.model", "expected one of", "\"linear_elastic\"", "\"mohr_coulomb\""});
+}
+
+TEST(InputErrors, UnknownScheme) {
+  const std::string text = kValid + "\n[solver]\nscheme = \"rk4\"\n";
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "rk4")), "solver.scheme", "expected one of", "\"musl\"", "\"rk4\""});
+}
+
+TEST(InputErrors, UnknownShapeFunction) {
+  const std::string text = kValid + "\n[solver]\nshape_function = \"bspline\"\n";
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "bspline")), "solver.shape_function", "expected one of", "\"gimp\"", "\"bspline\""});
+}
+
+TEST(InputErrors, PoissonRatioHalf) {
+  const std::string text = replace(kValid, "poisson_ratio = 0.3", "poisson_ratio = 0.5");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "poisson_ratio")), "materials.0.poisson_ratio", "(-1, 0.5)", "got 0.5"});
+}
+
+TEST(InputErrors, PoissonRatioMinusOne) {
+  const std::string text = replace(kValid, "poisson_ratio = 0.3", "poisson_ratio = -1");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "poisson_ratio")), "materials.0.poisson_ratio", "(-1, 0.5)", "got -1"});
+}
+
+TEST(InputErrors, NegativeDensity) {
+  const std::string text = replace(kValid, "density = 2000.0", "density = -2000.0");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "density")), "materials.0.density", "positive density", "-2000"});
+}
+
+TEST(InputErrors, CourantAndDt) {
+  const std::string text = replace(kValid, "courant = 0.5", "courant = 0.5\ndt = 1e-5");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "dt = 1e-5")), "time.dt", "either 'courant' or 'dt'", "not both"});
+}
+
+TEST(InputErrors, CourantAboveOne) {
+  const std::string text = replace(kValid, "courant = 0.5", "courant = 1.5");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "courant")), "time.courant", "Courant number in (0, 1]", "1.5"});
+}
+
+TEST(InputErrors, OverlappingBodies) {
+  const std::string text = replace(kValid, "[time]",
+                                   "[[bodies]]\nname = \"second\"\nmaterial = \"soil\"\nmin = [0.5, 0.2]\n"
+                                   "max = [0.8, 0.4]\n\n[time]");
+  const std::string msg = input_error(text);
+  expect_message(msg, {at_line(line_of(text, "min = [0.5, 0.2]")), "bodies.1.min", "\"second\" overlaps body \"block\""});
+}
+
+TEST(InputErrors, TouchingBodiesAreNotOverlapping) {
+  const std::string text = replace(kValid, "[time]",
+                                   "[[bodies]]\nname = \"second\"\nmaterial = \"soil\"\nmin = [0.6, 0.0]\n"
+                                   "max = [0.8, 0.4]\n\n[time]");
+  const tsuchi::Config c = read_config_string(text, "case.toml");
+  EXPECT_EQ(c.bodies.size(), 2u);
+}
+
+// ---- command-line overrides -------------------------------------------------------------------
+
+TEST(InputErrors, OverrideMakesInvalid) {
+  const std::string msg = input_error(kValid, {"grid.cell_size=-1"});
+  expect_message(msg, {"case.toml", "grid.cell_size", "positive length", "got -1"});
+  // The bad value is not on any line of the file: the message says where it came from instead of
+  // pointing at an unrelated line.
+  expect_message(msg, {"override"});
+}
+
+TEST(InputErrors, OverrideNotKeyValue) {
+  const std::string msg = input_error(kValid, {"grid.cell_size"});
+  expect_message(msg, {"case.toml", "override", "grid.cell_size", "key=value"});
+}
+
+TEST(InputErrors, OverrideValueNotToml) {
+  const std::string msg = input_error(kValid, {"time.end=abc"});
+  expect_message(msg, {"case.toml", "override", "time.end=abc", "not valid TOML"});
+}
+
+TEST(InputErrors, OverrideUnknownKey) {
+  const std::string msg = input_error(kValid, {"grid.cell_sise=0.1"});
+  expect_message(msg, {"case.toml", "unknown key", "grid.cell_sise", "did you mean 'cell_size'"});
+}
+
+// ---- the program ---------------------------------------------------------------------------
+
+struct TempDir {
+  fs::path path;
+  TempDir() {
+    std::random_device rd;
+    path = fs::temp_directory_path() /
+           ("tsuchi_input_errors_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
+    fs::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+};
+
+void write_file(const fs::path& p, const std::string& text) {
+  std::ofstream out(p, std::ios::binary);
+  out << text;
+  ASSERT_TRUE(out.good()) << "cannot write " << p;
+}
+
+struct Result {
+  int status = -1;
+  std::string output;  // stdout and stderr together
+};
+
+Result run_program(const std::string& args) {
+  Result r;
+  const std::string cmd = std::string("'") + TSUCHI_BINARY + "' " + args + " 2>&1";
+  std::FILE* p = ::popen(cmd.c_str(), "r");
+  if (!p) {
+    ADD_FAILURE() << "popen failed: " << cmd;
+    return r;
+  }
+  char buf[4096];
+  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) r.output.append(buf, n);
+  const int st = ::pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+// p in single quotes for the shell (the temp paths hold no quote).
+std::string quoted(const fs::path& p) {
+  std::string r(1, '\'');
+  r += p.string();
+  r += '\'';
+  return r;
+}
+
+TEST(ProgramErrors, CheckAndRunRefuseBadInput) {
+  TempDir tmp;
+  const fs::path file = tmp.path / "bad.toml";
+  const fs::path outdir = tmp.path / "out_bad";
+  write_file(file, replace(replace(kValid, "cell_size = 0.1", "cell_size = 0"), "directory = \"out\"",
+                           "directory = \"" + outdir.string() + "\""));
+  for (const char* cmd : {"check", "run"}) {
+    const Result r = run_program(std::string(cmd) + " " + quoted(file));
+    EXPECT_EQ(r.status, tsuchi::exit_code::input) << cmd << ":\n" << r.output;
+    expect_message(r.output, {file.string() + ":" + std::to_string(line_of(kValid, "cell_size")) + ":",
+                              "grid.cell_size", "positive length"});
+  }
+  EXPECT_FALSE(fs::exists(outdir)) << "a refused input created its output directory";
+}
+
+TEST(ProgramErrors, CheckAcceptsValidInput) {
+  TempDir tmp;
+  const fs::path file = tmp.path / "good.toml";
+  write_file(file, kValid);
+  const Result r = run_program("check " + quoted(file));
+  EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {"input is valid"});
+}
+
+TEST(ProgramErrors, FixedDtAboveStableLimit) {
+  TempDir tmp;
+  const fs::path file = tmp.path / "dt.toml";
+  const fs::path outdir = tmp.path / "out_dt";
+  // c_p = sqrt((K + 4G/3) / rho) ~ 82 m/s, h = 0.1 m: the stable limit is about 1.2e-3 s.
+  std::string text = replace(kValid, "courant = 0.5", "dt = 0.01");
+  text = replace(text, "end = 0.01", "end = 1.0");
+  text = replace(text, "directory = \"out\"", "directory = \"" + outdir.string() + "\"");
+  write_file(file, text);
+  const Result r = run_program("run " + quoted(file));
+  EXPECT_EQ(r.status, tsuchi::exit_code::input) << r.output;
+  expect_message(r.output, {file.string(), "time.dt", "stable limit"});
+  EXPECT_FALSE(fs::exists(outdir)) << "a refused time step created the output directory";
+}
+
+TEST(ProgramErrors, ParticleLeavesTheGrid) {
+  TempDir tmp;
+  const fs::path file = tmp.path / "escape.toml";
+  const fs::path outdir = tmp.path / "out_escape";
+  const std::string text = R"([model]
+dimension = 2
+
+[grid]
+extent = [0.4, 0.4]
+cell_size = 0.1
+
+[[materials]]
+name = "soil"
+model = "linear_elastic"
+density = 2000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+
+[[bodies]]
+name = "runner"
+material = "soil"
+min = [0.1, 0.1]
+max = [0.2, 0.2]
+velocity = [100.0, 0.0]
+
+[time]
+end = 1.0
+
+[output]
+directory = ")" + outdir.string() + R"("
+frames = false
+)";
+  write_file(file, text);
+  const Result r = run_program("run " + quoted(file));
+  EXPECT_EQ(r.status, tsuchi::exit_code::run) << r.output;
+  expect_message(r.output, {"left the grid", "\"runner\""});
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.output, m, std::regex("step ([0-9]+) \\(t = [^)]*\\): particle")))
+      << r.output;
+  const int failed_step = std::stoi(m[1].str());
+  EXPECT_GT(failed_step, 1);
+
+  // global.csv keeps the history up to the failure: a header and one row per completed step
+  // (step 0 .. failed_step - 1), all with the same number of columns, ending in a newline.
+  const fs::path csv = outdir / "global.csv";
+  ASSERT_TRUE(fs::exists(csv)) << r.output;
+  std::ifstream in(csv);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string content = ss.str();
+  ASSERT_FALSE(content.empty());
+  EXPECT_EQ(content.back(), '\n');
+  std::istringstream lines(content);
+  std::string line;
+  std::vector<std::string> rows;
+  while (std::getline(lines, line)) rows.push_back(line);
+  ASSERT_GE(rows.size(), 2u);
+  EXPECT_EQ(rows[0].rfind("time,step,", 0), 0u) << rows[0];
+  const auto commas = std::count(rows[0].begin(), rows[0].end(), ',');
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    EXPECT_EQ(std::count(rows[i].begin(), rows[i].end(), ','), commas) << "row " << i << ": " << rows[i];
+    // The step column counts up from 0.
+    const auto c1 = rows[i].find(',');
+    const auto c2 = rows[i].find(',', c1 + 1);
+    EXPECT_EQ(rows[i].substr(c1 + 1, c2 - c1 - 1), std::to_string(i - 1)) << rows[i];
+  }
+  EXPECT_EQ(static_cast<int>(rows.size()) - 1, failed_step) << "rows for steps 0 .. " << failed_step - 1;
+  // No temporary file left behind.
+  for (const auto& e : fs::directory_iterator(outdir))
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+}  // namespace

@@ -1,5 +1,6 @@
 // tsuchi: the command-line program. `tsuchi run FILE` runs a model, `tsuchi check FILE` validates
-// it and prints what a run would do. Exit codes: 0 ok, 1 usage, 2 input, 3 run fault, 4 output.
+// it and prints what a run would do. Exit codes: 0 ok, 1 usage, 2 input, 3 run fault, 4 output,
+// 5 internal error.
 #include "progress.hpp"
 
 #include "tsuchi/core/errors.hpp"
@@ -26,7 +27,7 @@ struct Options {
 };
 
 template <int D>
-void print_summary(const Model<D>& m) {
+void print_summary(const Model<D>& m, const std::string& output_dir) {
   const Config& c = m.config;
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
   const double dt = next_time_step(c.time, dt_crit, 0, c.source);
@@ -47,7 +48,7 @@ void print_summary(const Model<D>& m) {
              c.time.courant ? fmt::format("Courant {}", *c.time.courant) : std::string("fixed"), dt_crit);
   fmt::print("steps      about {:.0f} to t = {} s\n", std::ceil(c.time.end / dt), c.time.end);
   const double frames = c.output.interval > 0 ? std::ceil(c.time.end / c.output.interval) + 1 : 2;
-  fmt::print("output     {} ({:.0f} frames{})\n", c.output.directory, c.output.write_frames ? frames : 0,
+  fmt::print("output     {} ({:.0f} frames{})\n", output_dir, c.output.write_frames ? frames : 0,
              c.output.global_interval > 0 ? fmt::format(", global.csv every {} s", c.output.global_interval)
                                           : ", global.csv every step");
   fmt::print("memory     about {:.1f} MB\n", static_cast<double>(m.bytes()) / 1e6);
@@ -56,7 +57,7 @@ void print_summary(const Model<D>& m) {
 template <int D>
 int check(const Config& c) {
   const Model<D> m = build_model<D>(c);
-  print_summary<D>(m);
+  print_summary<D>(m, c.output.directory);
   fmt::print("input is valid\n");
   return exit_code::ok;
 }
@@ -64,7 +65,7 @@ int check(const Config& c) {
 template <int D>
 int run(const Config& c, const Options& o) {
   Model<D> m = build_model<D>(c);
-  if (!o.quiet) print_summary<D>(m);
+  if (!o.quiet) print_summary<D>(m, o.output.empty() ? c.output.directory : o.output);
   RunOptions ro;
   if (!o.output.empty()) ro.output_directory = o.output;
   app::ProgressReporter reporter(stderr);
@@ -118,5 +119,8 @@ int main(int argc, char** argv) {
   } catch (const OutputError& e) {
     fmt::print(stderr, "\noutput failed: {}\n", e.what());
     return exit_code::output;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "\ninternal error: {}\n", e.what());
+    return exit_code::internal;
   }
 }

@@ -26,6 +26,7 @@ inline constexpr int usage = 1;
 inline constexpr int input = 2;
 inline constexpr int run = 3;
 inline constexpr int output = 4;
+inline constexpr int internal = 5;  // anything else (out of memory, a bug)
 }  // namespace exit_code
 
 }  // namespace tsuchi

@@ -40,7 +40,12 @@ constexpr const char* axis_name[3] = {"x", "y", "z"};
 
 std::string describe(const toml::node& n) {
   if (auto v = n.as_integer()) return fmt::format("{}", v->get());
-  if (auto v = n.as_floating_point()) return fmt::format("{}", v->get());
+  if (auto v = n.as_floating_point()) {
+    // Keep the decimal point: "got 2" for a 2.0 where a whole number is wanted would mislead.
+    std::string r = fmt::format("{}", v->get());
+    if (r.find_first_of(".eEn") == std::string::npos) r += ".0";
+    return r;
+  }
   if (auto v = n.as_string()) return fmt::format("\"{}\"", v->get());
   if (auto v = n.as_boolean()) return v->get() ? "true" : "false";
   if (n.is_array()) return "an array";
@@ -266,7 +271,7 @@ const auto any = [](double) { return true; };
 int read_axis(const Section& s, std::string_view key, const toml::node& n, int dim) {
   if (auto str = n.as_string())
     for (int d = 0; d < dim; ++d)
-      if (str->get() == axis_name[d]) return d;
+      if (str->get().size() == 1 && std::tolower(static_cast<unsigned char>(str->get()[0])) == axis_name[d][0]) return d;
   s.fail(key, fmt::format("expected an axis name ({}), got {}", dim == 2 ? "\"x\" or \"y\"" : "\"x\", \"y\" or \"z\"",
                           describe(n)));
 }
@@ -360,6 +365,8 @@ void read_body(Section& s, Config& c, std::size_t index) {
   BodyConfig b;
   b.name = s.string("name", "a body name", fmt::format("body{}", index));
   b.material = s.string("material", "the name of a material");
+  for (const auto& other : c.bodies)
+    if (other.name == b.name) s.fail("name", fmt::format("body \"{}\" is defined twice", b.name));
   auto it = std::find_if(c.materials.begin(), c.materials.end(),
                          [&](const Material& m) { return m.name == b.material; });
   if (it == c.materials.end()) {
@@ -428,6 +435,9 @@ void read_boundary(Section& s, Config& c) {
     NodeSetConfig ns;
     ns.min = n.vector("min", c.dimension, "m", any);
     ns.max = n.vector("max", c.dimension, "m", any);
+    for (int d = 0; d < c.dimension; ++d)
+      if (ns.max[d] < ns.min[d])
+        n.fail("max", fmt::format("expected max >= min along {}, got {} < {}", axis_name[d], ns.max[d], ns.min[d]));
     const toml::node& fix = n.need("fix", "an array of axis names, e.g. [\"x\", \"y\"]");
     auto a = fix.as_array();
     if (!a || a->empty()) n.fail("fix", fmt::format("expected a non-empty array of axis names, got {}", describe(fix)));
@@ -474,6 +484,8 @@ void read_output(Section& s, Config& c) {
       auto str = e.as_string();
       if (!str || !is_particle_field(str->get()))
         s.fail("fields", fmt::format("expected field names from {}, got {}", particle_field_list(), describe(e)));
+      if (std::find(o.fields.begin(), o.fields.end(), str->get()) != o.fields.end())
+        s.fail("fields", fmt::format("field \"{}\" is listed twice", str->get()));
       o.fields.push_back(str->get());
     }
   } else {

@@ -16,6 +16,7 @@ namespace {
 template <int D>
 void set_boundary_conditions(const Config& c, Grid<D>& g) {
   const std::size_t n = g.size();
+  std::vector<std::size_t> set_nodes(c.boundary.node_sets.size(), 0);
   for (std::size_t idx = 0; idx < n; ++idx) {
     const auto ijk = g.ijk(static_cast<std::int64_t>(idx));
     std::uint8_t mask = 0;
@@ -31,15 +32,22 @@ void set_boundary_conditions(const Config& c, Grid<D>& g) {
       }
     const Vec<D> x = g.position(ijk);
     const double tol = 1e-9 * g.h;
-    for (const auto& set : c.boundary.node_sets) {
+    for (std::size_t s = 0; s < c.boundary.node_sets.size(); ++s) {
+      const auto& set = c.boundary.node_sets[s];
       bool inside = true;
       for (int d = 0; d < D; ++d) inside = inside && x[d] >= set.min[d] - tol && x[d] <= set.max[d] + tol;
       if (!inside) continue;
+      ++set_nodes[s];
       for (int d = 0; d < D; ++d)
         if (set.fix[d]) mask |= static_cast<std::uint8_t>(1u << d);
     }
     g.fixed_g[idx] = mask;
   }
+  for (std::size_t s = 0; s < set_nodes.size(); ++s)
+    if (set_nodes[s] == 0)
+      throw InputError(fmt::format("{}: key 'boundary.nodes.{}': the box holds no grid node; grid nodes lie "
+                                   "at multiples of cell_size from grid.origin",
+                                   c.source, s));
 }
 
 // Fills a box with particles on the lattice of spacing h / n per axis, aligned with the grid, so
@@ -53,7 +61,8 @@ void add_body(const Config& c, int body, Model<D>& m) {
   std::size_t total = 1;
   for (int d = 0; d < D; ++d) {
     spacing[d] = m.grid.h / b.particles_per_cell[d];
-    // Lattice points origin + (j + 1/2) spacing strictly inside [min, max].
+    // Lattice points origin + (j + 1/2) spacing in [min, max) (a box aligned with the lattice
+    // holds exactly its share; the 1e-9 keeps rounding from adding or losing a row).
     const double lo = (b.min[d] - m.grid.origin[d]) / spacing[d] - 0.5;
     const double hi = (b.max[d] - m.grid.origin[d]) / spacing[d] - 0.5;
     first[d] = static_cast<int>(std::ceil(lo - 1e-9));
@@ -96,6 +105,9 @@ void add_body(const Config& c, int body, Model<D>& m) {
     for (std::size_t q = start; q < p.size(); ++q) {
       const auto& x = p.x_p[q];
       p.v_p[q][d] = f(x[0], x[1], D == 3 ? x[D - 1] : 0.0);
+      if (!std::isfinite(p.v_p[q][d]))
+        throw InputError(fmt::format("{}: key 'bodies.{}.velocity': the formula \"{}\" is not finite at ({}, {})",
+                                     c.source, body, b.velocity_formula[d], x[0], x[1]));
     }
   }
   m.body_particles.push_back(total);

@@ -51,7 +51,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   auto frame_time = [&](std::int64_t k) { return oc.interval > 0 ? std::min(end, static_cast<double>(k) * oc.interval) : end; };
   double next_frame = frame_time(frame_index);
   double next_row = oc.global_interval * static_cast<double>(row_index);
-  double last_frame = 0.0;
+  double last_frame = 0.0, last_row = 0.0;
   auto last_flush = clock::now();
 
   try {
@@ -73,6 +73,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
       if (out) {
         if (oc.global_interval <= 0.0 || now >= next_row - tol) {
           out->global_row(now, solver.steps(), dt);
+          last_row = now;
           while (next_row <= now + tol && oc.global_interval > 0.0) next_row = oc.global_interval * static_cast<double>(++row_index);
         }
         if (now >= next_frame - tol) {
@@ -95,6 +96,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
     throw;
   }
   if (out) {
+    if (solver.time() > last_row) out->global_row(solver.time(), solver.steps(), dt);  // the final state
     if (solver.time() > last_frame) out->frame(solver.time());
     out->flush_global();
   }

@@ -165,3 +165,55 @@ TEST(Verification, ColumnSelfWeight3D) {
 }
 
 }  // namespace
+
+namespace {
+
+// A free, deforming block (no gravity, no boundary): total momentum is conserved by every scheme
+// and shape function, to round-off (stated tolerance 1e-9 of the initial momentum over about 80 steps).
+class MomentumConservation : public ::testing::TestWithParam<std::pair<std::string, std::string>> {};
+
+TEST_P(MomentumConservation, FreeBlockKeepsItsMomentum) {
+  const auto [scheme, shape] = GetParam();
+  const std::string input = R"toml(
+[model]
+dimension = 2
+[grid]
+origin = [0.0, 0.0]
+extent = [2.0, 2.0]
+cell_size = 0.1
+[[materials]]
+name = "m"
+model = "linear_elastic"
+density = 1000.0
+youngs_modulus = 1.0e6
+poisson_ratio = 0.3
+[[bodies]]
+material = "m"
+min = [0.5, 0.5]
+max = [1.3, 1.1]
+velocity = ["0.5 + 2.0 * (y - 0.8)", "-1.0 + 3.0 * (x - 0.9) * (x - 0.9)"]
+[solver]
+scheme = ")toml" + scheme + R"toml("
+shape_function = ")toml" + shape + R"toml("
+[time]
+end = 0.1
+[output]
+frames = false
+)toml";
+  Model<2> m = build_model<2>(read_config_string(input, "momentum.toml"));
+  const auto q0 = global_quantities<2>(m);
+  RunOptions o;
+  o.write_output = false;
+  const RunSummary s = run_simulation<2>(m, o);
+  const auto q1 = global_quantities<2>(m);
+  EXPECT_GT(s.steps, 50);
+  EXPECT_LT((q1.momentum - q0.momentum).norm(), 1e-9 * q0.momentum.norm());
+  EXPECT_NEAR(q1.mass, q0.mass, 1e-12 * q0.mass);
+}
+
+INSTANTIATE_TEST_SUITE_P(Schemes, MomentumConservation,
+                         ::testing::Values(std::pair{"usf", "gimp"}, std::pair{"usl", "gimp"},
+                                           std::pair{"musl", "gimp"}, std::pair{"musl", "linear"},
+                                           std::pair{"usf", "ugimp"}));
+
+}  // namespace

@@ -31,12 +31,15 @@ void ExplicitSolver<D>::step_with(double dt) {
   auto& g = m_.grid;
   switch (m_.config.solver.scheme) {
     case Scheme::USF:
+      // The GIMP domain update waits until the end of the step: the later stages must use the
+      // same weights as the mass p2g, or momentum is not conserved.
       p2g<Kernel>(true, false);
       nodal_velocity();
       update_stress<Kernel>(dt, g.v_g, false);
       p2g<Kernel>(false, true);
       solve_grid(dt);
       g2p<Kernel>(dt, false, true);
+      apply_deferred_domain_update();
       break;
     case Scheme::USL:
       p2g<Kernel>(true, true);
@@ -164,6 +167,8 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
   auto& g = m_.grid;
   auto& p = m_.particles;
   const bool domain_update = m_.config.solver.shape == ShapeKind::Gimp;
+  const bool defer_domain = !move;  // USF: the step's later stages still need this step's weights
+  if (domain_update && defer_domain) deferred_eps_.resize(p.size());
   const auto& materials = m_.config.materials;
   for (std::size_t mat = 0; mat < materials.size(); ++mat) {
     std::visit(
@@ -183,8 +188,13 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
             jaumann_rotate(p.sigma_p[i], d_omega);
             model.template update<D>(p.sigma_p[i], d_eps);
             p.eps_p[i] += d_eps;
-            p.V_p[i] *= 1.0 + trace<D>(d_eps);
-            if (domain_update) update_particle_domain<D>(p.l_p[i], d_eps, g.h);
+            const double J = 1.0 + trace<D>(d_eps);
+            if (!(J > 0.0) && inverted_ < 0) inverted_ = static_cast<std::int64_t>(i);
+            p.V_p[i] *= J;
+            if (domain_update) {
+              if (defer_domain) deferred_eps_[i] = d_eps;
+              else update_particle_domain<D>(p.l_p[i], d_eps, g.h);
+            }
             if (move) move_particle(i, dt, vL);
           }
         },
@@ -217,9 +227,22 @@ void ExplicitSolver<D>::move_particle(std::size_t i, double dt, Vec<D> vL) {
 }
 
 template <int D>
+void ExplicitSolver<D>::apply_deferred_domain_update() {
+  if (m_.config.solver.shape != ShapeKind::Gimp) return;
+  auto& p = m_.particles;
+  for (std::size_t i = 0; i < p.size(); ++i) update_particle_domain<D>(p.l_p[i], deferred_eps_[i], m_.grid.h);
+}
+
+template <int D>
 void ExplicitSolver<D>::report_escape() const {
-  if (escaped_ < 0) return;
   const auto& p = m_.particles;
+  if (inverted_ >= 0) {
+    const auto i = static_cast<std::size_t>(inverted_);
+    throw RunError(fmt::format("step {} (t = {:.6g} s): particle {} of body \"{}\" was compressed to zero or "
+                               "negative volume in one step; reduce the time step (time.courant)",
+                               steps_ + 1, time_, p.id_p[i], m_.config.bodies[p.body_p[i]].name));
+  }
+  if (escaped_ < 0) return;
   const auto i = static_cast<std::size_t>(escaped_);
   std::string pos;
   for (int d = 0; d < D; ++d) pos += fmt::format("{}{:.6g}", d ? ", " : "", p.x_p[i][d]);

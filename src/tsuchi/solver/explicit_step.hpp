@@ -34,12 +34,15 @@ class ExplicitSolver {
   template <class Kernel> void update_stress(double dt, const std::vector<Vec<D>>& v_strain, bool move);
   void impose_motion(std::size_t i, Vec<D>& v) const;
   void move_particle(std::size_t i, double dt, Vec<D> vL);
+  void apply_deferred_domain_update();
   void report_escape() const;
 
   Model<D>& m_;
   double time_ = 0.0;
   std::int64_t steps_ = 0;
-  std::int64_t escaped_ = -1;  // first particle found outside the grid in this step
+  std::int64_t escaped_ = -1;   // first particle found outside the grid in this step
+  std::int64_t inverted_ = -1;  // first particle whose volume went to zero or below
+  std::vector<Voigt<D>> deferred_eps_;  // USF: this step's strain increments, for the domain update
 };
 
 extern template class ExplicitSolver<2>;

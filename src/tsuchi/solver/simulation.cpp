@@ -64,17 +64,20 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
       // Land exactly on the next frame (or the end); split the approach in two equal steps rather
       // than leave a sliver of a step.
       const double target = std::min(end, next_frame);
-      if (t + dt * (1.0 + 1e-9) >= target) dt = target - t;
+      if (t + dt * (1.0 + 1e-6) >= target) dt = target - t;
       else if (t + 2.0 * dt > target) dt = 0.5 * (target - t);
       solver.step(dt);
       const double now = solver.time();
-      const double tol = 1e-9 * dt;
+      const double tol = 1e-6 * dt;  // above the round-off of summing thousands of steps
       if (after_step) after_step(solver);
       if (out) {
         if (oc.global_interval <= 0.0 || now >= next_row - tol) {
           out->global_row(now, solver.steps(), dt);
           last_row = now;
-          while (next_row <= now + tol && oc.global_interval > 0.0) next_row = oc.global_interval * static_cast<double>(++row_index);
+          if (oc.global_interval > 0.0) {
+            row_index = static_cast<std::int64_t>(std::floor((now + tol) / oc.global_interval)) + 1;
+            next_row = oc.global_interval * static_cast<double>(row_index);
+          }
         }
         if (now >= next_frame - tol) {
           out->frame(now);
@@ -85,7 +88,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
           out->flush_global();
           last_flush = clock::now();
         }
-      } else if (now >= next_frame - 1e-9 * dt) {
+      } else if (now >= next_frame - tol) {
         while (next_frame <= now + tol && next_frame < end) next_frame = frame_time(++frame_index);
       }
       if (options.on_progress)

@@ -79,16 +79,16 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
             next_row = oc.global_interval * static_cast<double>(row_index);
           }
         }
-        if (now >= next_frame - tol) {
-          out->frame(now);
-          last_frame = now;
-          while (next_frame <= now + tol && next_frame < end) next_frame = frame_time(++frame_index);
-        }
         if (clock::now() - last_flush > std::chrono::seconds(30)) {
           out->flush_global();
           last_flush = clock::now();
         }
-      } else if (now >= next_frame - tol) {
+      }
+      if (now >= next_frame - tol) {
+        if (out) {
+          out->frame(now);
+          last_frame = now;
+        }
         while (next_frame <= now + tol && next_frame < end) next_frame = frame_time(++frame_index);
       }
       if (options.on_progress)

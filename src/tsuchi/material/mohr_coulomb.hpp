@@ -1,0 +1,112 @@
+#pragma once
+// Mohr-Coulomb, elastic-perfectly plastic, with a tension cut-off: the FLAC formulation of
+// METHOD.md section 5 (eqs 24-29). Tension positive; principal stresses s1 <= s2 <= s3 (s1 the
+// most compressive). Non-associated flow through the dilatancy angle psi.
+//
+//   shear yield    f_s = s1 - s3 N_phi + 2 c sqrt(N_phi)  < 0      (24)
+//   tension yield  f_t = sigma_t - s3                      < 0
+//   which one      h   = s3 - sigma_t + a_P (s1 - sigma_P): shear if h <= 0
+//
+// The return keeps the principal directions and corrects the principal values only.
+#include "tsuchi/core/principal_frame.hpp"
+#include "tsuchi/material/linear_elastic.hpp"
+#include "tsuchi/material/mohr_coulomb_return.hpp"
+
+#include <cmath>
+#include <cstdint>
+
+namespace tsuchi {
+
+enum class YieldMode : std::uint8_t { Elastic = 0, Shear = 1, Tension = 2 };
+
+// How a point that fails in tension is returned.
+enum class TensionRule : std::uint8_t {
+  Flac,   // s3 = sigma_t, s1 and s2 follow elastically (FLAC's correction)
+  Paper,  // eq (28): the stress is released to sigma_t on the diagonal, shear stresses zero
+};
+
+// Per-point plastic history (output fields).
+struct PlasticPoint {
+  YieldMode mode = YieldMode::Elastic;
+  double plastic_shear = 0.0;   // accumulated eps1_p - eps3_p of the plastic strain increments
+  double plastic_volume = 0.0;  // accumulated plastic volumetric strain (dilation positive)
+};
+
+struct MohrCoulomb {
+  LinearElastic elastic;
+  double cohesion = 0.0;  // c (Pa)
+  double phi = 0.0;       // friction angle (rad)
+  double psi = 0.0;       // dilatancy angle (rad)
+  double tension = 0.0;   // sigma_t (Pa), at most c / tan(phi), eq (29)
+  TensionRule tension_rule = TensionRule::Flac;
+
+  // Strength of one point; c and phi may carry the point's imperfection factors.
+  struct Strength {
+    double c, N_phi, sqrt_N_phi, N_psi, sigma_t, a_P, sigma_P;
+  };
+
+  Strength strength(double c_scale = 1.0, double phi_scale = 1.0) const {
+    Strength s;
+    const double sp = std::sin(phi * phi_scale), ss = std::sin(psi);
+    s.c = cohesion * c_scale;
+    s.N_phi = (1.0 + sp) / (1.0 - sp);
+    s.sqrt_N_phi = std::sqrt(s.N_phi);
+    s.N_psi = (1.0 + ss) / (1.0 - ss);
+    // A scaled phi or c must not leave sigma_t above the apex c / tan(phi).
+    s.sigma_t = std::min(tension, s.c / std::tan(phi * phi_scale));
+    s.a_P = std::sqrt(1.0 + s.N_phi * s.N_phi) + s.N_phi;
+    s.sigma_P = s.sigma_t * s.N_phi - 2.0 * s.c * s.sqrt_N_phi;
+    return s;
+  }
+
+  static double shear_yield(const Eigen::Vector3d& p, const Strength& s) {
+    return p[0] - p[2] * s.N_phi + 2.0 * s.c * s.sqrt_N_phi;
+  }
+
+  // Plastic correction of a trial stress in place; returns the mode of this step.
+  template <int D>
+  YieldMode correct(Voigt<D>& sigma, const Strength& s, PlasticPoint& state) const {
+    const PrincipalFrame<D> frame(sigma);
+    const Eigen::Vector3d& p = frame.values;
+    if (shear_yield(p, s) >= 0.0 && s.sigma_t - p[2] >= 0.0) return YieldMode::Elastic;
+    const double a1 = elastic.K + 4.0 * elastic.G / 3.0, a2 = elastic.K - 2.0 * elastic.G / 3.0;
+    const bool shear = p[2] - s.sigma_t + s.a_P * (p[0] - s.sigma_P) <= 0.0;  // FLAC's h-function
+    if (!shear && tension_rule == TensionRule::Paper) {
+      // Eq (28): released to sigma_t on the diagonal; the whole release is plastic.
+      const Eigen::Vector3d dep = compliance((p.array() - s.sigma_t).matrix());
+      state.plastic_shear += dep.maxCoeff() - dep.minCoeff();
+      state.plastic_volume += dep.sum();
+      sigma = Voigt<D>::Zero();
+      for (int i = 0; i < 3; ++i) sigma[i] = s.sigma_t;
+      return state.mode = YieldMode::Tension;
+    }
+    const MohrCoulombReturn ret(s.N_phi, s.N_psi, 2.0 * s.c * s.sqrt_N_phi, s.sigma_t, a1, a2);
+    PrincipalReturn r;
+    if (!ret.solve(p, shear, r)) {
+      r.stress.setConstant(s.sigma_t);  // the tension vertex is always admissible
+      r.plastic_strain = compliance((p.array() - s.sigma_t).matrix());
+      r.tension_active = true;
+    }
+    state.plastic_shear += r.plastic_strain.maxCoeff() - r.plastic_strain.minCoeff();
+    state.plastic_volume += r.plastic_strain.sum();
+    sigma = frame.rebuild(r.stress);
+    return state.mode = (r.shear_active && (shear || !r.tension_active)) ? YieldMode::Shear : YieldMode::Tension;
+  }
+
+  // Principal strain of a principal stress difference: the inverse of Hooke's law.
+  Eigen::Vector3d compliance(const Eigen::Vector3d& ds) const {
+    const double mean = ds.mean();
+    return (ds.array() - mean).matrix() / (2.0 * elastic.G) + Eigen::Vector3d::Constant(mean / (3.0 * elastic.K));
+  }
+
+  // Elastic trial (Hooke) then the plastic correction, for one point and one step.
+  template <int D>
+  YieldMode update(Voigt<D>& sigma, const Voigt<D>& d_eps, PlasticPoint& state, double c_scale = 1.0,
+                   double phi_scale = 1.0) const {
+    elastic.update<D>(sigma, d_eps);
+    state.mode = YieldMode::Elastic;
+    return correct<D>(sigma, strength(c_scale, phi_scale), state);
+  }
+};
+
+}  // namespace tsuchi

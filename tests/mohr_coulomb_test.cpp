@@ -1,0 +1,226 @@
+// Mohr-Coulomb with tension cut-off (METHOD.md section 5) at the level of one material point.
+#include "tsuchi/material/mohr_coulomb.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <numbers>
+#include <random>
+
+namespace {
+
+using namespace tsuchi;
+using std::numbers::pi;
+
+constexpr double kPa = 1e3;
+double deg(double d) { return d * pi / 180.0; }
+
+// The paper's soil (test 1 moduli): c = 8.5 kPa, phi = 30.5 deg, G = 1311 kPa, nu = 0.2.
+MohrCoulomb soil(double psi_deg = 0.0, TensionRule rule = TensionRule::Flac) {
+  MohrCoulomb m;
+  m.elastic = LinearElastic::from_shear(1311 * kPa, 0.2);
+  m.cohesion = 8.5 * kPa;
+  m.phi = deg(30.5);
+  m.psi = deg(psi_deg);
+  m.tension = 0.0;
+  m.tension_rule = rule;
+  return m;
+}
+
+// 20,000 random trial stresses, many far outside, some near edges and the shear-tension corner,
+// with non-associated flow: every corrected stress is on the surface of its mode and inside all
+// the others, within 1e-9 of the stress scale.
+void check_random_returns(const MohrCoulomb& m, unsigned seed) {
+  const auto s = m.strength();
+  const double a1 = m.elastic.K + 4 * m.elastic.G / 3, a2 = m.elastic.K - 2 * m.elastic.G / 3;
+  const MohrCoulombReturn ret(s.N_phi, s.N_psi, 2 * s.c * s.sqrt_N_phi, s.sigma_t, a1, a2);
+  const MohrCoulombReturn& planes = ret;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> wide(-300 * kPa, 50 * kPa), near_apex(-40 * kPa, 50 * kPa);
+  const double scale = 100 * kPa;
+  int shear = 0, tension = 0;
+  for (int k = 0; k < 20000; ++k) {
+    auto& u = k % 2 ? wide : near_apex;
+    Voigt<3> sig;
+    sig << u(rng), u(rng), u(rng), 0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng);
+    if (k % 4 == 0) sig[1] = sig[0];  // on an edge of the pyramid before the return
+    PrincipalReturn direct;
+    const Eigen::Vector3d trial = PrincipalFrame<3>(sig).values;
+    for (bool shear_first : {true, false}) {  // an admissible active set exists from either side
+      if (ret.violation(trial) > 0) {
+        ASSERT_TRUE(ret.solve(trial, shear_first, direct)) << "k = " << k;
+      }
+    }
+    PlasticPoint st;
+    const YieldMode mode = m.correct<3>(sig, s, st);
+    const Eigen::Vector3d p = PrincipalFrame<3>(sig).values;
+    const double f_s = MohrCoulomb::shear_yield(p, s), f_t = s.sigma_t - p[2];
+    if (mode == YieldMode::Shear) {
+      ++shear;
+      ASSERT_LT(std::abs(f_s), 1e-9 * scale) << "k = " << k;
+    }
+    if (mode == YieldMode::Tension) {
+      ++tension;
+      ASSERT_LT(std::abs(f_t), 1e-9 * scale) << "k = " << k;
+    }
+    ASSERT_GT(f_s, -1e-9 * scale) << "outside the shear surface after return, k = " << k;
+    ASSERT_GT(f_t, -1e-9 * scale) << "outside the tension surface after return, k = " << k;
+    ASSERT_LT(planes.violation(p), 1e-9 * scale) << "k = " << k;
+    ASSERT_GE(st.plastic_shear, 0.0);
+  }
+  EXPECT_GT(shear, 1000);
+  EXPECT_GT(tension, 1000);
+}
+
+TEST(MohrCoulomb, ReturnLandsOnTheSurfaceAndNeverOutside) {
+  check_random_returns(soil(10.0), 42);
+  check_random_returns(soil(30.5), 43);  // associated
+  MohrCoulomb with_tension = soil(0.0);
+  with_tension.tension = 4 * kPa;
+  check_random_returns(with_tension, 44);
+}
+
+// Plane-strain compression from an isotropic state sigma3 = p: eps_yy driven, sigma_xx held at -p
+// by iteration, eps_zz = 0. Returns the deviator q = -sigma_yy - p (compression positive) at the
+// end and, through `dilatancy`, d eps_v / d gamma over the last steps.
+struct PathResult {
+  double q_peak = 0, dilatancy = 0;
+  double plastic_volume = 0;
+};
+
+PathResult plane_strain_compression(const MohrCoulomb& m, double p, double axial = 0.15, int steps = 6000) {
+  Voigt<2> sig;
+  sig << -p, -p, -p, 0.0;
+  PlasticPoint st;
+  const double de = -axial / steps;
+  const double M = m.elastic.constrained_modulus(), lam = m.elastic.K - 2 * m.elastic.G / 3;
+  PathResult r;
+  double ev_prev = 0, g_prev = 0, ev = 0, exx = 0, eyy = 0;
+  for (int n = 0; n < steps; ++n) {
+    // Find d_eps_xx so that sigma_xx stays at -p (secant iteration on the elastic stiffness).
+    double dexx = -lam / M * de;
+    Voigt<2> trial;
+    for (int it = 0; it < 100; ++it) {
+      trial = sig;
+      PlasticPoint tmp = st;
+      Voigt<2> d;
+      d << dexx, de, 0.0, 0.0;
+      m.update<2>(trial, d, tmp);
+      const double err = trial[0] + p;
+      if (std::abs(err) < 1e-10 * p) break;
+      dexx -= err / M;
+    }
+    Voigt<2> d;
+    d << dexx, de, 0.0, 0.0;
+    m.update<2>(sig, d, st);
+    exx += dexx;
+    eyy += de;
+    ev = exx + eyy;
+    const double gamma = exx - eyy;
+    if (n == steps - 101) ev_prev = ev, g_prev = gamma;
+    if (n == steps - 1) r.dilatancy = (ev - ev_prev) / (gamma - g_prev);
+    r.q_peak = std::max(r.q_peak, -sig[1] - p);
+  }
+  r.plastic_volume = st.plastic_volume;
+  return r;
+}
+
+TEST(MohrCoulomb, PlaneStrainPeakDeviatorMatchesTheory) {
+  const MohrCoulomb m = soil();
+  const double N = (1 + std::sin(m.phi)) / (1 - std::sin(m.phi));
+  for (double p_kPa : {10.0, 50.0, 100.0}) {
+    const double p = p_kPa * kPa;
+    const double q_theory = p * (N - 1) + 2 * m.cohesion * std::sqrt(N);
+    const PathResult r = plane_strain_compression(m, p);
+    EXPECT_NEAR(r.q_peak, q_theory, 0.005 * q_theory) << "p = " << p_kPa << " kPa";
+    std::printf("p = %5.1f kPa: peak q %.3f kPa, Mohr-Coulomb %.3f kPa\n", p_kPa, r.q_peak / kPa, q_theory / kPa);
+  }
+  // The published values of METHOD.md section 6.
+  EXPECT_NEAR(10 * kPa * (N - 1) + 2 * m.cohesion * std::sqrt(N), 50.4 * kPa, 0.1 * kPa);
+  EXPECT_NEAR(100 * kPa * (N - 1) + 2 * m.cohesion * std::sqrt(N), 235.9 * kPa, 0.1 * kPa);
+}
+
+TEST(MohrCoulomb, DilatancyFollowsPsi) {
+  const PathResult zero = plane_strain_compression(soil(0.0), 50 * kPa);
+  EXPECT_NEAR(zero.dilatancy, 0.0, 1e-9);
+  EXPECT_NEAR(zero.plastic_volume, 0.0, 1e-15);
+  const MohrCoulomb assoc = soil(30.5);
+  const PathResult r = plane_strain_compression(assoc, 50 * kPa);
+  // Plastic flow at constant stress: d eps_v / d gamma = sin(psi) (dilation positive).
+  EXPECT_NEAR(r.dilatancy, std::sin(assoc.psi), 1e-6);
+  EXPECT_GT(r.plastic_volume, 0.0);
+}
+
+TEST(MohrCoulomb, TensionFlacRuleHoldsTheLargestStressAtSigmaT) {
+  MohrCoulomb m = soil();
+  m.tension = 5 * kPa;
+  Voigt<3> sig = Voigt<3>::Zero();
+  Voigt<3> d = Voigt<3>::Zero();
+  d[0] = 2e-3;  // pull along x
+  PlasticPoint st;
+  const YieldMode mode = m.update<3>(sig, d, st);
+  EXPECT_EQ(mode, YieldMode::Tension);
+  const Eigen::Vector3d p = PrincipalFrame<3>(sig).values;
+  EXPECT_NEAR(p[2], 5 * kPa, 1e-9 * kPa);
+  EXPECT_NEAR(sig[0], 5 * kPa, 1e-9 * kPa);
+}
+
+TEST(MohrCoulomb, TensionPaperRuleReleasesTheStress) {
+  const MohrCoulomb m = soil(0.0, TensionRule::Paper);  // sigma_t = 0
+  Voigt<2> sig;
+  sig << -1 * kPa, -1 * kPa, -1 * kPa, 0.0;
+  Voigt<2> d;
+  d << 1e-2, 0.0, 0.0, 2e-3;  // pulled apart and sheared
+  PlasticPoint st;
+  EXPECT_EQ(m.update<2>(sig, d, st), YieldMode::Tension);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(sig[i], 0.0) << i;
+}
+
+TEST(MohrCoulomb, ObjectiveUnderRotation) {
+  const MohrCoulomb m = soil(10.0);
+  const Mat3 R = Eigen::AngleAxisd(1.1, Eigen::Vector3d(0.3, -1, 2).normalized()).toRotationMatrix();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int k = 0; k < 200; ++k) {
+    Voigt<3> sig, d;
+    sig << -60 * kPa + 20 * kPa * u(rng), -50 * kPa + 20 * kPa * u(rng), -40 * kPa, 5 * kPa * u(rng), 0, 0;
+    d << 1e-3 * u(rng), 1e-3 * u(rng), 1e-3 * u(rng), 1e-3 * u(rng), 1e-3 * u(rng), 1e-3 * u(rng);
+    Voigt<3> a = sig;
+    PlasticPoint s1, s2;
+    m.update<3>(a, d, s1);
+    Voigt<3> b = to_voigt<3>(R * to_matrix<3>(sig) * R.transpose());
+    m.update<3>(b, to_voigt<3>(R * to_matrix<3>(d) * R.transpose()), s2);
+    const Mat3 diff = R * to_matrix<3>(a) * R.transpose() - to_matrix<3>(b);
+    ASSERT_LT(diff.cwiseAbs().maxCoeff(), 1e-10 * 100 * kPa) << "k = " << k;
+    EXPECT_EQ(s1.mode, s2.mode);
+  }
+}
+
+TEST(MohrCoulomb, ElasticStateIsLeftUntouched) {
+  const MohrCoulomb m = soil();
+  Voigt<2> sig;
+  sig << -50 * kPa, -60 * kPa, -55 * kPa, 3 * kPa;
+  const Voigt<2> before = sig;
+  PlasticPoint st;
+  EXPECT_EQ(m.correct<2>(sig, m.strength(), st), YieldMode::Elastic);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(sig[i], before[i]);
+}
+
+// The plane-strain frame rebuilds the tensor exactly, also when sigma_zz ties an in-plane value.
+TEST(PrincipalFrame, PlaneRebuildIsExact) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int k = 0; k < 1000; ++k) {
+    Voigt<2> t;
+    t << u(rng), u(rng), u(rng), u(rng);
+    if (k % 3 == 0) t[2] = 0.5 * (t[0] + t[1]) + std::hypot(0.5 * (t[0] - t[1]), t[3]);
+    const PrincipalFrame<2> f(t);
+    EXPECT_LE(f.values[0], f.values[1]);
+    EXPECT_LE(f.values[1], f.values[2]);
+    const Voigt<2> back = f.rebuild(f.values);
+    for (int i = 0; i < 4; ++i) ASSERT_NEAR(back[i], t[i], 1e-14);
+  }
+}
+
+}  // namespace

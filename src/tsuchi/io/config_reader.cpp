@@ -4,15 +4,11 @@
 #include "tsuchi/core/expression.hpp"
 #include "tsuchi/io/particle_fields.hpp"
 
-#include <fmt/format.h>
-#include <toml++/toml.h>
+#include "tsuchi/io/material_reader.hpp"
+#include "tsuchi/io/toml_section.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <functional>
-#include <set>
-#include <sstream>
 
 namespace tsuchi {
 
@@ -36,237 +32,7 @@ const char* to_string(ShapeKind s) {
 
 namespace {
 
-constexpr const char* axis_name[3] = {"x", "y", "z"};
-
-std::string describe(const toml::node& n) {
-  if (auto v = n.as_integer()) return fmt::format("{}", v->get());
-  if (auto v = n.as_floating_point()) {
-    // Keep the decimal point: "got 2" for a 2.0 where a whole number is wanted would mislead.
-    std::string r = fmt::format("{}", v->get());
-    if (r.find_first_of(".eEn") == std::string::npos) r += ".0";
-    return r;
-  }
-  if (auto v = n.as_string()) return fmt::format("\"{}\"", v->get());
-  if (auto v = n.as_boolean()) return v->get() ? "true" : "false";
-  if (n.is_array()) return "an array";
-  if (n.is_table()) return "a table";
-  return "a value of another type";
-}
-
-std::string where(const std::string& file, const toml::source_region& r) {
-  if (r.begin.line == 0) return fmt::format("{}: (command-line override)", file);
-  return fmt::format("{}:{}:{}", file, r.begin.line, r.begin.column);
-}
-
-// One TOML table being read: hands out typed values, remembers which keys were asked for, and
-// on finish() reports any key nobody asked for.
-class Section {
- public:
-  Section(const toml::table& t, std::string path, const std::string& file)
-      : t_(t), path_(std::move(path)), file_(file) {}
-
-  std::string key_path(std::string_view key) const {
-    return path_.empty() ? std::string(key) : fmt::format("{}.{}", path_, key);
-  }
-
-  [[noreturn]] void fail(std::string_view key, const std::string& msg) const {
-    const toml::node* n = t_.get(key);
-    const auto& region = n ? n->source() : t_.source();
-    throw InputError(fmt::format("{}: key '{}': {}", where(file_, region), key_path(key), msg));
-  }
-
-  [[noreturn]] void fail_here(const std::string& msg) const {
-    throw InputError(fmt::format("{}: {}{}", where(file_, t_.source()),
-                                 path_.empty() ? "" : fmt::format("in '{}': ", path_), msg));
-  }
-
-  bool has(std::string_view key) const { return t_.get(key) != nullptr; }
-
-  const toml::node* get(std::string_view key) {
-    used_.insert(std::string(key));
-    return t_.get(key);
-  }
-
-  const toml::node& need(std::string_view key, const std::string& expected) {
-    const toml::node* n = get(key);
-    if (!n) {
-      throw InputError(fmt::format("{}: missing key '{}': expected {}", where(file_, t_.source()),
-                                   key_path(key), expected));
-    }
-    return *n;
-  }
-
-  double number_of(std::string_view key, const toml::node& n, const std::string& expected) const {
-    if (auto i = n.as_integer()) return static_cast<double>(i->get());
-    if (auto f = n.as_floating_point()) {
-      if (!std::isfinite(f->get())) fail(key, fmt::format("expected {}, got {}", expected, describe(n)));
-      return f->get();
-    }
-    fail(key, fmt::format("expected {}, got {}", expected, describe(n)));
-  }
-
-  // A number; `ok` is the range check and `expected` says it in words (with the unit).
-  double number(std::string_view key, const std::string& expected,
-                const std::function<bool(double)>& ok, std::optional<double> fallback = {}) {
-    const toml::node* n = get(key);
-    if (!n) {
-      if (fallback) return *fallback;
-      need(key, expected);
-    }
-    const double v = number_of(key, *n, expected);
-    if (ok && !ok(v)) fail(key, fmt::format("expected {}, got {}", expected, describe(*n)));
-    return v;
-  }
-
-  std::optional<double> optional_number(std::string_view key, const std::string& expected,
-                                        const std::function<bool(double)>& ok) {
-    if (!has(key)) {
-      get(key);
-      return std::nullopt;
-    }
-    return number(key, expected, ok);
-  }
-
-  std::int64_t integer(std::string_view key, const std::string& expected,
-                       const std::function<bool(std::int64_t)>& ok, std::int64_t fallback) {
-    const toml::node* n = get(key);
-    if (!n) return fallback;
-    auto i = n->as_integer();
-    if (!i || (ok && !ok(i->get()))) fail(key, fmt::format("expected {}, got {}", expected, describe(*n)));
-    return i->get();
-  }
-
-  std::string string(std::string_view key, const std::string& expected,
-                     std::optional<std::string> fallback = {}) {
-    const toml::node* n = get(key);
-    if (!n) {
-      if (fallback) return *fallback;
-      need(key, expected);
-    }
-    auto s = n->as_string();
-    if (!s) fail(key, fmt::format("expected {}, got {}", expected, describe(*n)));
-    return s->get();
-  }
-
-  bool boolean(std::string_view key, bool fallback) {
-    const toml::node* n = get(key);
-    if (!n) return fallback;
-    auto b = n->as_boolean();
-    if (!b) fail(key, fmt::format("expected true or false, got {}", describe(*n)));
-    return b->get();
-  }
-
-  // One of `choices` (compared case-insensitively); returns its index.
-  int choice(std::string_view key, const std::vector<std::string>& choices, int fallback) {
-    const toml::node* n = get(key);
-    std::string list;
-    for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
-    if (!n) return fallback;
-    auto s = n->as_string();
-    if (s) {
-      std::string v = s->get();
-      std::transform(v.begin(), v.end(), v.begin(), [](unsigned char c) { return std::tolower(c); });
-      for (std::size_t i = 0; i < choices.size(); ++i)
-        if (v == choices[i]) return static_cast<int>(i);
-    }
-    fail(key, fmt::format("expected one of {}, got {}", list, describe(*n)));
-  }
-
-  // An array of exactly `dim` numbers, each passing `ok`.
-  Triple vector(std::string_view key, int dim, const std::string& expected,
-                const std::function<bool(double)>& ok, std::optional<Triple> fallback = {}) {
-    const toml::node* n = get(key);
-    if (!n) {
-      if (fallback) return *fallback;
-      need(key, expected);
-    }
-    return vector_of(key, *n, dim, expected, ok);
-  }
-
-  Triple vector_of(std::string_view key, const toml::node& n, int dim, const std::string& expected,
-                   const std::function<bool(double)>& ok) const {
-    auto a = n.as_array();
-    if (!a || static_cast<int>(a->size()) != dim)
-      fail(key, fmt::format("expected an array of {} numbers ({}), got {}", dim, expected,
-                            a ? fmt::format("{} entries", a->size()) : describe(n)));
-    Triple r{};
-    for (int d = 0; d < dim; ++d) {
-      const toml::node& e = *a->get(static_cast<std::size_t>(d));
-      r[d] = number_of(key, e, expected);
-      if (ok && !ok(r[d]))
-        fail(key, fmt::format("expected {} in every entry, got {} in entry {}", expected,
-                              describe(e), d + 1));
-    }
-    return r;
-  }
-
-  const toml::table* table(std::string_view key) {
-    const toml::node* n = get(key);
-    if (!n) return nullptr;
-    if (!n->is_table()) fail(key, fmt::format("expected a table, got {}", describe(*n)));
-    return n->as_table();
-  }
-
-  // [[key]] array of tables; an absent key gives an empty list.
-  std::vector<const toml::table*> tables(std::string_view key) {
-    std::vector<const toml::table*> r;
-    const toml::node* n = get(key);
-    if (!n) return r;
-    auto a = n->as_array();
-    if (!a) fail(key, fmt::format("expected an array of tables ([[{}]]), got {}", key, describe(*n)));
-    for (const auto& e : *a) {
-      if (!e.is_table()) fail(key, fmt::format("expected an array of tables ([[{}]]), got an entry that is {}", key, describe(e)));
-      r.push_back(e.as_table());
-    }
-    return r;
-  }
-
-  void finish() const {
-    for (auto&& [k, v] : t_) {
-      if (!used_.count(std::string(k.str()))) {
-        throw InputError(fmt::format("{}: unknown key '{}'{}", where(file_, k.source()),
-                                     key_path(k.str()), hint(k.str())));
-      }
-    }
-  }
-
-  const std::string& path() const { return path_; }
-  const std::string& file() const { return file_; }
-  const toml::table& raw() const { return t_; }
-
- private:
-  std::string hint(std::string_view k) const {
-    // Suggest a known key that differs only slightly (a typo).
-    std::string best;
-    std::size_t best_d = 3;
-    for (const auto& u : used_) {
-      const std::size_t d = edit_distance(k, u);
-      if (d < best_d) best_d = d, best = u;
-    }
-    return best.empty() ? std::string{} : fmt::format(" (did you mean '{}'?)", best);
-  }
-
-  static std::size_t edit_distance(std::string_view a, std::string_view b) {
-    std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-    for (std::size_t i = 1; i <= a.size(); ++i) {
-      cur[0] = i;
-      for (std::size_t j = 1; j <= b.size(); ++j)
-        cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
-      std::swap(prev, cur);
-    }
-    return prev[b.size()];
-  }
-
-  const toml::table& t_;
-  std::string path_;
-  const std::string& file_;
-  std::set<std::string> used_;
-};
-
-const auto positive = [](double v) { return v > 0.0; };
-const auto non_negative = [](double v) { return v >= 0.0; };
-const auto any = [](double) { return true; };
+using namespace io;
 
 int read_axis(const Section& s, std::string_view key, const toml::node& n, int dim) {
   if (auto str = n.as_string())
@@ -303,27 +69,6 @@ void read_grid(Section& s, Config& c) {
   s.finish();
 }
 
-void read_material(Section& s, Config& c) {
-  Material m;
-  m.name = s.string("name", "a material name");
-  const int model = s.choice("model", {"linear_elastic"}, -1);
-  if (model < 0) s.need("model", "a constitutive model name (\"linear_elastic\")");
-  m.density = s.number("density", "a positive density in kg/m^3", positive);
-  const double nu = s.number("poisson_ratio", "a Poisson's ratio in (-1, 0.5)",
-                             [](double v) { return v > -1.0 && v < 0.5; });
-  const bool has_E = s.has("youngs_modulus"), has_G = s.has("shear_modulus");
-  if (has_E == has_G)
-    s.fail_here("give exactly one of 'youngs_modulus' and 'shear_modulus' (Pa)");
-  if (has_E)
-    m.model = LinearElastic::from_young(s.number("youngs_modulus", "a positive modulus in Pa", positive), nu);
-  else
-    m.model = LinearElastic::from_shear(s.number("shear_modulus", "a positive modulus in Pa", positive), nu);
-  for (const auto& other : c.materials)
-    if (other.name == m.name) s.fail("name", fmt::format("material \"{}\" is defined twice", m.name));
-  s.finish();
-  c.materials.push_back(std::move(m));
-}
-
 void read_velocity_components(Section& s, std::string_view key, int dim, BodyConfig& b) {
   const toml::table* t = s.table(key);
   if (!t) return;
@@ -358,6 +103,74 @@ void read_initial_velocity(Section& s, int dim, BodyConfig& b) {
       b.velocity[d] = s.number_of("velocity", e, expected);
     }
   }
+}
+
+// Exactly one of: isotropic (a number), tensor (the Voigt components), k0 (geostatic under gravity).
+void read_initial_stress(Section& s, const Config& c, BodyConfig& b) {
+  auto& is = b.initial_stress;
+  const int dim = c.dimension;
+  const int given = s.has("isotropic") + s.has("tensor") + s.has("k0");
+  if (given != 1) s.fail_here("give exactly one of 'isotropic' (Pa), 'tensor' (Pa) and 'k0' (geostatic)");
+  if (s.has("isotropic")) {
+    is.kind = InitialStressConfig::Kind::Uniform;
+    const double v = s.number("isotropic", "a stress in Pa (tension positive: a confining pressure is negative)", any);
+    is.tensor = {v, v, v, 0.0, 0.0, 0.0};
+  } else if (s.has("tensor")) {
+    is.kind = InitialStressConfig::Kind::Uniform;
+    const toml::node& n = *s.get("tensor");
+    const int nv = dim == 2 ? 4 : 6;
+    const std::string expected = dim == 2 ? "[xx, yy, zz, xy] in Pa" : "[xx, yy, zz, xy, yz, xz] in Pa";
+    auto a = n.as_array();
+    if (!a || static_cast<int>(a->size()) != nv)
+      s.fail("tensor", fmt::format("expected an array of {} numbers {}, got {}", nv, expected,
+                                   a ? fmt::format("{} entries", a->size()) : describe(n)));
+    for (int k = 0; k < nv; ++k) is.tensor[static_cast<std::size_t>(k)] = s.number_of("tensor", *a->get(static_cast<std::size_t>(k)), expected);
+  } else {
+    is.kind = InitialStressConfig::Kind::K0;
+    is.k0 = s.number("k0", "a coefficient of earth pressure at rest > 0", positive);
+    int axes = 0;
+    for (int d = 0; d < dim; ++d) axes += c.gravity[d] != 0.0;
+    if (axes != 1)
+      s.fail("k0", "a K0 profile needs model.gravity along one axis (the vertical), with the other components 0");
+    is.surface = s.optional_number("surface", "the coordinate of the free surface in m", any);
+    is.surface_stress = s.number("surface_stress", "the vertical stress at the surface in Pa (tension positive)",
+                                 [](double v) { return v <= 0.0; }, 0.0);
+  }
+  if (is.kind != InitialStressConfig::Kind::K0)
+    for (const char* k : {"surface", "surface_stress"})
+      if (s.has(k)) s.fail(k, "applies only to a 'k0' profile");
+  is.subtract = s.boolean("subtract", false);
+  s.finish();
+}
+
+void read_imperfection(Section& s, const Config& c, BodyConfig& b) {
+  auto& im = b.imperfection;
+  const Material& mat = c.materials[b.material_index];
+  const auto* mc = std::get_if<MohrCoulomb>(&mat.model);
+  if (!mc)
+    s.fail_here(fmt::format("material \"{}\" of body \"{}\" has no strength to perturb; an imperfection needs "
+                            "a \"mohr_coulomb\" material", mat.name, b.name));
+  im.amplitude = s.number("amplitude", "a relative amplitude in [0, 1)", [](double v) { return v >= 0 && v < 1; });
+  im.seed = static_cast<std::uint64_t>(s.integer("seed", "a whole number >= 0", [](std::int64_t v) { return v >= 0; }, -1));
+  if (!s.has("seed")) s.need("seed", "a whole number >= 0 (the same seed gives the same field)");
+  im.cohesion = im.friction = true;
+  if (const toml::node* n = s.get("parameters")) {
+    im.cohesion = im.friction = false;
+    auto a = n->as_array();
+    const std::string expected = "a non-empty array of \"cohesion\" and/or \"friction_angle\"";
+    if (!a || a->empty()) s.fail("parameters", fmt::format("expected {}, got {}", expected, describe(*n)));
+    for (const auto& e : *a) {
+      const auto str = e.as_string();
+      if (str && str->get() == "cohesion") im.cohesion = true;
+      else if (str && str->get() == "friction_angle") im.friction = true;
+      else s.fail("parameters", fmt::format("expected {}, got {}", expected, describe(e)));
+    }
+  }
+  constexpr double deg = 180.0 / 3.14159265358979323846;
+  if (im.friction && mc->phi * (1.0 + im.amplitude) * deg >= 90.0)
+    s.fail("amplitude", fmt::format("friction angle {} degrees times (1 + {}) reaches 90 degrees", mc->phi * deg,
+                                    im.amplitude));
+  s.finish();
 }
 
 void read_body(Section& s, Config& c, std::size_t index) {
@@ -417,6 +230,14 @@ void read_body(Section& s, Config& c, std::size_t index) {
       b.prescribed_gradient[d] = g.vector(axis_name[d], dim, "velocity gradients in 1/s", any);
     }
     g.finish();
+  }
+  if (const toml::table* t = s.table("initial_stress")) {
+    Section is(*t, s.key_path("initial_stress"), s.file());
+    read_initial_stress(is, c, b);
+  }
+  if (const toml::table* t = s.table("imperfection")) {
+    Section im(*t, s.key_path("imperfection"), s.file());
+    read_imperfection(im, c, b);
   }
   s.finish();
   c.bodies.push_back(b);
@@ -519,7 +340,7 @@ Config read_document(const toml::table& root, const std::string& file) {
   if (mats.empty()) top.need("materials", "at least one [[materials]] table");
   for (std::size_t i = 0; i < mats.size(); ++i) {
     Section s(*mats[i], fmt::format("materials.{}", i), file);
-    read_material(s, c);
+    c.materials.push_back(read_material(s, c.materials));
   }
 
   const auto bodies = top.tables("bodies");
@@ -554,69 +375,15 @@ Config read_document(const toml::table& root, const std::string& file) {
   return c;
 }
 
-// Puts `value` (TOML syntax) at a dotted path; numeric parts index arrays of tables.
-void apply_override(toml::table& root, const std::string& assignment, const std::string& file) {
-  const auto eq = assignment.find('=');
-  if (eq == std::string::npos || eq == 0)
-    throw InputError(fmt::format("{}: override '{}': expected key=value", file, assignment));
-  std::string path = assignment.substr(0, eq);
-  path.erase(path.find_last_not_of(" \t") + 1);
-  const std::string value = assignment.substr(eq + 1);
-  toml::table parsed;
-  try {
-    parsed = toml::parse(std::string_view(std::string("v = ") + value), std::string_view("override"));
-  } catch (const toml::parse_error& e) {
-    throw InputError(fmt::format("{}: override '{}': the value is not valid TOML ({})", file,
-                                 assignment, e.description()));
-  }
-  std::vector<std::string> parts;
-  std::stringstream ss(path);
-  for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
-  toml::node* here = &root;
-  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
-    toml::node* next = nullptr;
-    if (auto t = here->as_table()) {
-      next = t->get(parts[i]);
-      if (!next) next = &t->insert_or_assign(parts[i], toml::table{}).first->second;
-    } else if (auto a = here->as_array()) {
-      char* end = nullptr;
-      const long k = std::strtol(parts[i].c_str(), &end, 10);
-      if (*end == '\0' && k >= 0 && static_cast<std::size_t>(k) < a->size()) next = a->get(static_cast<std::size_t>(k));
-    }
-    if (!next || !(next->is_table() || next->is_array()))
-      throw InputError(fmt::format("{}: override '{}': '{}' does not name a table", file, assignment, parts[i]));
-    here = next;
-  }
-  auto t = here->as_table();
-  if (!t) throw InputError(fmt::format("{}: override '{}': cannot set an array entry", file, assignment));
-  t->insert_or_assign(parts.back(), *parsed.get("v"));
-}
-
-Config parse(const std::string& text, const std::string& file, const std::vector<std::string>& overrides) {
-  toml::table root;
-  try {
-    root = toml::parse(std::string_view(text), std::string_view(file));
-  } catch (const toml::parse_error& e) {
-    throw InputError(fmt::format("{}:{}:{}: {}", file, e.source().begin.line, e.source().begin.column,
-                                 e.description()));
-  }
-  for (const auto& o : overrides) apply_override(root, o, file);
-  return read_document(root, file);
-}
-
 }  // namespace
 
 Config read_config_string(const std::string& text, const std::string& source_name,
                           const std::vector<std::string>& overrides) {
-  return parse(text, source_name, overrides);
+  return read_document(io::parse_toml(text, source_name, overrides), source_name);
 }
 
 Config read_config_file(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open the input file", path));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse(ss.str(), path, overrides);
+  return read_document(io::parse_toml(io::read_input_file(path), path, overrides), path);
 }
 
 }  // namespace tsuchi

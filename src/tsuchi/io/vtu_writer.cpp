@@ -82,6 +82,11 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
       b.array(xml, "Float64", f, 1, rho);
     } else if (f == "material") b.array(xml, "Int32", f, 1, p.material_p);
     else if (f == "body") b.array(xml, "Int32", f, 1, p.body_p);
+    else if (f == "yield_mode") b.array(xml, "UInt8", f, 1, p.yield_p);
+    else if (f == "plastic_shear_strain") b.array(xml, "Float64", f, 1, p.plastic_shear_p);
+    else if (f == "plastic_volumetric_strain") b.array(xml, "Float64", f, 1, p.plastic_volume_p);
+    else if (f == "cohesion_factor") b.array(xml, "Float64", f, 1, p.c_scale_p);
+    else if (f == "friction_factor") b.array(xml, "Float64", f, 1, p.phi_scale_p);
   }
   xml += "      </PointData>\n      <Points>\n";
   b.array(xml, "Float64", "", 3, vectors3<D>(p.x_p));

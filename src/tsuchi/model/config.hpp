@@ -24,6 +24,27 @@ struct GridConfig {
   std::array<int, 3> cells{1, 1, 1};
 };
 
+// Initial stress of a body, tension positive (Pa). The particles start with sigma = sigma0; with
+// `subtract` the internal force uses sigma - sigma0 (eq 2), so sigma0 holds itself like a confining
+// pressure on every face, and only the change of stress moves the body.
+struct InitialStressConfig {
+  enum class Kind { None, Uniform, K0 };
+  Kind kind = Kind::None;
+  std::array<double, 6> tensor{};  // Uniform: xx, yy, zz, xy, yz, xz
+  double k0 = 0.0;                 // K0: sigma_h = k0 sigma_v, sigma_v = surface_stress - rho |g| depth
+  std::optional<double> surface;   // K0: coordinate of the free surface along the up axis (default: top of the body)
+  double surface_stress = 0.0;     // K0: vertical stress at the surface (overburden of what is above)
+  bool subtract = false;
+};
+
+// Random strength imperfection: c and/or phi of each particle times (1 + d), d uniform in [-a, a].
+struct ImperfectionConfig {
+  double amplitude = 0.0;
+  std::uint64_t seed = 0;
+  bool cohesion = false;
+  bool friction = false;
+};
+
 struct BodyConfig {
   std::string name;
   std::string material;
@@ -37,6 +58,8 @@ struct BodyConfig {
   std::array<bool, 3> prescribed{false, false, false};
   Triple prescribed_velocity{};
   std::array<Triple, 3> prescribed_gradient{};
+  InitialStressConfig initial_stress;
+  ImperfectionConfig imperfection;
 };
 
 struct NodeSetConfig {

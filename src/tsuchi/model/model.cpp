@@ -2,6 +2,8 @@
 
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/expression.hpp"
+#include "tsuchi/model/imperfection.hpp"
+#include "tsuchi/model/initial_stress.hpp"
 
 #include <fmt/format.h>
 
@@ -48,6 +50,62 @@ void set_boundary_conditions(const Config& c, Grid<D>& g) {
       throw InputError(fmt::format("{}: key 'boundary.nodes.{}': the box holds no grid node; grid nodes lie "
                                    "at multiples of cell_size from grid.origin",
                                    c.source, s));
+}
+
+GeostaticFrame geostatic_frame(const Config& c, const BodyConfig& b) {
+  GeostaticFrame f;
+  for (int d = 0; d < c.dimension; ++d)
+    if (c.gravity[d] != 0.0) {
+      f.up_axis = d;
+      f.up_sign = c.gravity[d] < 0.0 ? 1.0 : -1.0;
+      f.g = std::abs(c.gravity[d]);
+    }
+  const double top = f.up_sign > 0 ? b.max[f.up_axis] : b.min[f.up_axis];
+  f.surface = b.initial_stress.surface.value_or(top);
+  return f;
+}
+
+// Initial stress, imperfection factors, and a check that the start lies inside the yield surface:
+// a state outside would be returned in the first step, a jolt the user did not ask for.
+template <int D>
+void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m) {
+  const BodyConfig& b = c.bodies[body];
+  const Material& mat = c.materials[b.material_index];
+  auto& p = m.particles;
+  const GeostaticFrame frame = geostatic_frame(c, b);
+  ImperfectionField field(b.imperfection);
+  const bool imperfect = b.imperfection.amplitude > 0.0 && (b.imperfection.cohesion || b.imperfection.friction);
+  for (std::size_t q = start; q < p.size(); ++q) {
+    p.sigma_p[q] = initial_stress<D>(b.initial_stress, frame, mat.density, p.x_p[q]);
+    if (b.initial_stress.subtract) p.sigma0_p[q] = p.sigma_p[q];
+    if (imperfect) field.next(p.c_scale_p[q], p.phi_scale_p[q]);
+  }
+  if (b.initial_stress.subtract && b.initial_stress.kind != InitialStressConfig::Kind::None) {
+    const auto& t = b.initial_stress.tensor;
+    const bool isotropic = b.initial_stress.kind == InitialStressConfig::Kind::Uniform && t[0] == t[1] &&
+                           t[1] == t[2] && t[3] == 0.0 && t[4] == 0.0 && t[5] == 0.0;
+    m.rotate_initial_stress = m.rotate_initial_stress || !isotropic;
+  }
+  const auto* mc = std::get_if<MohrCoulomb>(&mat.model);
+  if (!mc || b.initial_stress.kind == InitialStressConfig::Kind::None) return;
+  for (std::size_t q = start; q < p.size(); ++q) {
+    const auto s = mc->strength(p.c_scale_p[q], p.phi_scale_p[q]);
+    const Eigen::Vector3d v = PrincipalFrame<D>(p.sigma_p[q]).values;
+    const double scale = std::max(v.cwiseAbs().maxCoeff(), s.c) + 1e-300;
+    const double f_s = MohrCoulomb::shear_yield(v, s), f_t = s.sigma_t - v[2];
+    if (f_s < -1e-9 * scale || f_t < -1e-9 * scale) {
+      std::string at;
+      for (int d = 0; d < D; ++d) at += fmt::format("{}{:.6g}", d ? ", " : "", p.x_p[q][d]);
+      throw InputError(fmt::format(
+          "{}: key 'bodies.{}.initial_stress': the initial stress of body \"{}\" lies outside the {} "
+          "surface of material \"{}\" at ({}): principal stresses {:.6g}, {:.6g}, {:.6g} Pa{}",
+          c.source, body, b.name, f_s < -1e-9 * scale ? "Mohr-Coulomb shear" : "tension cut-off", mat.name, at,
+          v[0], v[1], v[2],
+          b.initial_stress.kind == InitialStressConfig::Kind::K0
+              ? "; with c = 0 a K0 state needs 1/N_phi <= k0 <= N_phi"
+              : ""));
+    }
+  }
 }
 
 // Fills a box with particles on the lattice of spacing h / n per axis, aligned with the grid, so
@@ -111,6 +169,7 @@ void add_body(const Config& c, int body, Model<D>& m) {
     }
   }
   m.body_particles.push_back(total);
+  set_initial_state(c, body, start, m);
 
   BodyMotion<D> motion;
   for (int d = 0; d < D; ++d) {

@@ -28,6 +28,7 @@ struct Model {
   std::vector<BodyMotion<D>> motion;        // one per body
   std::vector<std::size_t> body_particles;  // particle count per body
   double node_mass_floor = 0.0;             // nodes lighter than this are skipped (kg)
+  bool rotate_initial_stress = false;       // some body holds an anisotropic sigma0 by eq (2)
 
   std::size_t bytes() const {
     return grid.bytes() + particles.size() * Particles<D>::bytes_per_particle();

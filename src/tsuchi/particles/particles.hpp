@@ -18,6 +18,12 @@ struct Particles {
   std::vector<Voigt<D>> sigma_p;  // Cauchy stress, tension positive (Pa)
   std::vector<Voigt<D>> sigma0_p; // initial stress subtracted in the internal force, eq (2)
   std::vector<Voigt<D>> eps_p;    // accumulated small strain, eq (10b)
+  // Mohr-Coulomb history and strength imperfection (untouched for elastic materials).
+  std::vector<std::uint8_t> yield_p;       // YieldMode of the last step: 0 elastic, 1 shear, 2 tension
+  std::vector<double> plastic_shear_p;     // accumulated plastic shear strain (eps1_p - eps3_p)
+  std::vector<double> plastic_volume_p;    // accumulated plastic volumetric strain, dilation positive
+  std::vector<double> c_scale_p;           // cohesion factor 1 + d of the imperfection
+  std::vector<double> phi_scale_p;         // friction-angle factor 1 + d
   std::vector<std::int32_t> material_p;
   std::vector<std::int32_t> body_p;
   std::vector<std::int32_t> id_p;  // stable identity, survives reordering
@@ -34,14 +40,19 @@ struct Particles {
     sigma_p.resize(n, Voigt<D>::Zero());
     sigma0_p.resize(n, Voigt<D>::Zero());
     eps_p.resize(n, Voigt<D>::Zero());
+    yield_p.resize(n, 0);
+    plastic_shear_p.resize(n, 0.0);
+    plastic_volume_p.resize(n, 0.0);
+    c_scale_p.resize(n, 1.0);
+    phi_scale_p.resize(n, 1.0);
     material_p.resize(n, 0);
     body_p.resize(n, 0);
     id_p.resize(n, 0);
   }
 
   static constexpr std::size_t bytes_per_particle() {
-    return 4 * sizeof(Vec<D>) + 2 * sizeof(double) + 3 * sizeof(Voigt<D>) +
-           3 * sizeof(std::int32_t);
+    return 4 * sizeof(Vec<D>) + 6 * sizeof(double) + 3 * sizeof(Voigt<D>) +
+           3 * sizeof(std::int32_t) + sizeof(std::uint8_t);
   }
 };
 

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <type_traits>
 
 namespace tsuchi {
 
@@ -170,6 +171,8 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
   const bool defer_domain = !move;  // USF: the step's later stages still need this step's weights
   if (domain_update && defer_domain) deferred_eps_.resize(p.size());
   const auto& materials = m_.config.materials;
+  // An anisotropic initial stress held by eq (2) turns with the material, as the stress does.
+  const bool rotate_sigma0 = m_.rotate_initial_stress;
   for (std::size_t mat = 0; mat < materials.size(); ++mat) {
     std::visit(
         [&](const auto& model) {
@@ -186,7 +189,17 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
             const Voigt<D> d_eps = dt * sym_voigt<D>(L);
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
             jaumann_rotate(p.sigma_p[i], d_omega);
-            model.template update<D>(p.sigma_p[i], d_eps);
+            if (rotate_sigma0) jaumann_rotate(p.sigma0_p[i], d_omega);
+            using Model = std::decay_t<decltype(model)>;
+            if constexpr (std::is_same_v<Model, MohrCoulomb>) {
+              PlasticPoint state{YieldMode::Elastic, p.plastic_shear_p[i], p.plastic_volume_p[i]};
+              p.yield_p[i] = static_cast<std::uint8_t>(
+                  model.template update<D>(p.sigma_p[i], d_eps, state, p.c_scale_p[i], p.phi_scale_p[i]));
+              p.plastic_shear_p[i] = state.plastic_shear;
+              p.plastic_volume_p[i] = state.plastic_volume;
+            } else {
+              model.template update<D>(p.sigma_p[i], d_eps);
+            }
             p.eps_p[i] += d_eps;
             const double J = 1.0 + trace<D>(d_eps);
             if (!(J > 0.0) && inverted_ < 0) inverted_ = static_cast<std::int64_t>(i);

@@ -1,0 +1,14 @@
+#pragma once
+// One [[materials]] table: the density, the elastic moduli and, for "mohr_coulomb", the strength.
+// Shared by the run input and the element-test input.
+#include "tsuchi/io/toml_section.hpp"
+#include "tsuchi/material/material.hpp"
+
+#include <vector>
+
+namespace tsuchi::io {
+
+// `defined` are the materials read so far (names must be unique). Calls s.finish().
+Material read_material(Section& s, const std::vector<Material>& defined);
+
+}  // namespace tsuchi::io

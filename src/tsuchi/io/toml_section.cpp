@@ -1,0 +1,70 @@
+#include "tsuchi/io/toml_section.hpp"
+
+#include <fstream>
+#include <sstream>
+
+namespace tsuchi::io {
+
+namespace {
+
+// Puts `value` (TOML syntax) at a dotted path; numeric parts index arrays of tables.
+void apply_override(toml::table& root, const std::string& assignment, const std::string& file) {
+  const auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(fmt::format("{}: override '{}': expected key=value", file, assignment));
+  std::string path = assignment.substr(0, eq);
+  path.erase(path.find_last_not_of(" \t") + 1);
+  const std::string value = assignment.substr(eq + 1);
+  toml::table parsed;
+  try {
+    parsed = toml::parse(std::string_view(std::string("v = ") + value), std::string_view("override"));
+  } catch (const toml::parse_error& e) {
+    throw InputError(fmt::format("{}: override '{}': the value is not valid TOML ({})", file,
+                                 assignment, e.description()));
+  }
+  std::vector<std::string> parts;
+  std::stringstream ss(path);
+  for (std::string p; std::getline(ss, p, '.');) parts.push_back(p);
+  toml::node* here = &root;
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    toml::node* next = nullptr;
+    if (auto t = here->as_table()) {
+      next = t->get(parts[i]);
+      if (!next) next = &t->insert_or_assign(parts[i], toml::table{}).first->second;
+    } else if (auto a = here->as_array()) {
+      char* end = nullptr;
+      const long k = std::strtol(parts[i].c_str(), &end, 10);
+      if (*end == '\0' && k >= 0 && static_cast<std::size_t>(k) < a->size()) next = a->get(static_cast<std::size_t>(k));
+    }
+    if (!next || !(next->is_table() || next->is_array()))
+      throw InputError(fmt::format("{}: override '{}': '{}' does not name a table", file, assignment, parts[i]));
+    here = next;
+  }
+  auto t = here->as_table();
+  if (!t) throw InputError(fmt::format("{}: override '{}': cannot set an array entry", file, assignment));
+  t->insert_or_assign(parts.back(), *parsed.get("v"));
+}
+
+}  // namespace
+
+toml::table parse_toml(const std::string& text, const std::string& file, const std::vector<std::string>& overrides) {
+  toml::table root;
+  try {
+    root = toml::parse(std::string_view(text), std::string_view(file));
+  } catch (const toml::parse_error& e) {
+    throw InputError(fmt::format("{}:{}:{}: {}", file, e.source().begin.line, e.source().begin.column,
+                                 e.description()));
+  }
+  for (const auto& o : overrides) apply_override(root, o, file);
+  return root;
+}
+
+std::string read_input_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open the input file", path));
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+}  // namespace tsuchi::io

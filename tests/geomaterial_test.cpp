@@ -1,0 +1,229 @@
+// Geomaterial set-up through the input file and the solver: a confining initial stress held by
+// eq (2), the K0 profile, the seeded strength imperfection, and the input checks of issue 3.
+#include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/config_reader.hpp"
+#include "tsuchi/model/model.hpp"
+#include "tsuchi/solver/simulation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace tsuchi;
+
+// The paper's soil (test 3 moduli) as a free block without gravity, under an isotropic 100 kPa.
+const std::string kBlock = R"([model]
+dimension = 2
+
+[grid]
+origin = [0.0, 0.0]
+extent = [0.2, 0.2]
+cell_size = 0.01
+
+[[materials]]
+name = "soil"
+model = "mohr_coulomb"
+density = 1530.0
+shear_modulus = 8.514e6
+poisson_ratio = 0.2
+cohesion = 8.5e3
+friction_angle = 30.5
+dilatancy_angle = 0.0
+tension_strength = 0.0
+
+[[bodies]]
+name = "specimen"
+material = "soil"
+min = [0.05, 0.05]
+max = [0.15, 0.15]
+particles_per_cell = 2
+
+[bodies.initial_stress]
+isotropic = -100.0e3
+subtract = true
+
+[time]
+end = 1.0
+courant = 0.5
+max_steps = 1000
+
+[output]
+frames = false
+)";
+
+Config config(const std::string& text, const std::vector<std::string>& overrides = {}) {
+  return read_config_string(text, "case.toml", overrides);
+}
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto pos = text.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  return pos == std::string::npos ? text : text.replace(pos, from.size(), to);
+}
+
+double largest_displacement(const Model<2>& m) {
+  double u = 0.0;
+  for (const auto& v : m.particles.u_p) u = std::max(u, v.norm());
+  return u;
+}
+
+RunOptions quiet() {
+  RunOptions o;
+  o.write_output = false;
+  return o;
+}
+
+TEST(Geomaterial, ConfinedBlockStaysAtRestUnderItsInitialStress) {
+  Model<2> m = build_model<2>(config(kBlock));
+  const auto s = run_simulation<2>(m, quiet());
+  EXPECT_EQ(s.steps, 1000);
+  EXPECT_LT(largest_displacement(m), 1e-9);
+  std::printf("confined block: largest displacement %.3e m after %lld steps\n", largest_displacement(m), static_cast<long long>(s.steps));
+  for (const auto& sig : m.particles.sigma_p) {
+    ASSERT_NEAR(sig[0], -100e3, 1e-6);
+    ASSERT_NEAR(sig[1], -100e3, 1e-6);
+    ASSERT_NEAR(sig[2], -100e3, 1e-6);
+  }
+  for (auto mode : m.particles.yield_p) ASSERT_EQ(mode, 0);
+
+  // The same block without eq (2) is pushed apart by its own stress: the check above can fail.
+  Model<2> loose = build_model<2>(config(kBlock, {"bodies.0.initial_stress.subtract=false", "time.max_steps=100"}));
+  run_simulation<2>(loose, quiet());
+  EXPECT_GT(largest_displacement(loose), 1e-5);
+}
+
+TEST(Geomaterial, K0ProfileFollowsDepth) {
+  std::string text = replace(kBlock, "[model]\ndimension = 2\n", "[model]\ndimension = 2\ngravity = [0.0, -9.81]\n");
+  text = replace(text, "isotropic = -100.0e3\nsubtract = true", "k0 = 0.5\nsurface_stress = -2.0e3");
+  const Model<2> m = build_model<2>(config(text));
+  const double rho = 1530.0, g = 9.81, top = 0.15;
+  for (std::size_t i = 0; i < m.particles.size(); ++i) {
+    const auto& sig = m.particles.sigma_p[i];
+    const double sv = -2.0e3 - rho * g * (top - m.particles.x_p[i][1]);
+    ASSERT_NEAR(sig[1], sv, 1e-9 * std::abs(sv));
+    ASSERT_NEAR(sig[0], 0.5 * sv, 1e-9 * std::abs(sv));
+    ASSERT_NEAR(sig[2], 0.5 * sv, 1e-9 * std::abs(sv));
+    ASSERT_EQ(sig[3], 0.0);
+    ASSERT_EQ(m.particles.sigma0_p[i].norm(), 0.0);  // not subtracted: gravity carries it
+  }
+}
+
+std::vector<double> factors(const std::vector<std::string>& overrides) {
+  const std::string text = replace(kBlock, "[time]", "[bodies.imperfection]\namplitude = 0.05\nseed = 7\n\n[time]");
+  const Model<2> m = build_model<2>(config(text, overrides));
+  std::vector<double> f = m.particles.c_scale_p;
+  f.insert(f.end(), m.particles.phi_scale_p.begin(), m.particles.phi_scale_p.end());
+  return f;
+}
+
+TEST(Geomaterial, ImperfectionIsSeededAndBounded) {
+  const std::vector<double> a = factors({}), b = factors({}), c = factors({"bodies.0.imperfection.seed=8"});
+  ASSERT_EQ(a.size(), 2 * 400u);
+  EXPECT_EQ(a, b) << "same seed, same field, bit for bit";
+  EXPECT_NE(a, c);
+  double mean = 0.0, var = 0.0;
+  for (double f : a) {
+    ASSERT_GE(f, 0.95);
+    ASSERT_LE(f, 1.05);
+    mean += f / static_cast<double>(a.size());
+  }
+  for (double f : a) var += (f - mean) * (f - mean) / static_cast<double>(a.size());
+  // Uniform on [-a, a]: mean 0, standard deviation a / sqrt(3) = 0.0289; 800 draws.
+  EXPECT_NEAR(mean, 1.0, 4 * 0.0289 / std::sqrt(800.0));
+  EXPECT_NEAR(std::sqrt(var), 0.05 / std::sqrt(3.0), 0.1 * 0.05 / std::sqrt(3.0));
+
+  const std::vector<double> only_c = factors({"bodies.0.imperfection.parameters=[\"cohesion\"]"});
+  double spread = 0.0;
+  for (std::size_t i = 0; i < 400; ++i) spread = std::max(spread, std::abs(only_c[i] - 1.0));
+  for (std::size_t i = 400; i < 800; ++i) ASSERT_EQ(only_c[i], 1.0);
+  EXPECT_GT(spread, 0.04);
+}
+
+TEST(Geomaterial, TensionStrengthIsCappedAtTheApex) {
+  const Config c = config(kBlock, {"materials.0.tension_strength=1e9"});
+  const auto& mc = std::get<MohrCoulomb>(c.materials[0].model);
+  EXPECT_NEAR(mc.tension, 8.5e3 / std::tan(30.5 * std::numbers::pi / 180.0), 1e-9);
+}
+
+// Bad geomaterial input: each refused with the key named.
+struct BadCase {
+  std::vector<std::string> overrides;
+  const char* key;
+  const char* words;
+};
+
+TEST(Geomaterial, BadInputNamesTheKey) {
+  const BadCase cases[] = {
+      {{"materials.0.friction_angle=95"}, "materials.0.friction_angle", "(0, 90)"},
+      {{"materials.0.friction_angle=0"}, "materials.0.friction_angle", "(0, 90)"},
+      {{"materials.0.dilatancy_angle=31"}, "materials.0.dilatancy_angle", "no larger than the friction angle"},
+      {{"materials.0.cohesion=-1"}, "materials.0.cohesion", ">= 0"},
+      {{"materials.0.tension_strength=-1"}, "materials.0.tension_strength", ">= 0"},
+      {{"materials.0.poisson_ratio=0.5"}, "materials.0.poisson_ratio", "(-1, 0.5)"},
+      {{"materials.0.shear_modulus=0"}, "materials.0.shear_modulus", "positive"},
+      {{"materials.0.density=-1"}, "materials.0.density", "positive"},
+      {{"materials.0.tension_rule=\"rankine\""}, "materials.0.tension_rule", "\"paper\""},
+      {{"bodies.0.initial_stress.k0=0.5"}, "bodies.0.initial_stress", "exactly one of"},
+      {{"bodies.0.initial_stress.surface=0.1"}, "bodies.0.initial_stress.surface", "only to a 'k0'"},
+      {{"bodies.0.initial_stress.isotropic=\"high\""}, "bodies.0.initial_stress.isotropic", "Pa"},
+      {{"bodies.0.imperfection.amplitude=0.01"}, "bodies.0.imperfection.seed", "seed"},
+      {{"bodies.0.imperfection.amplitude=1.5", "bodies.0.imperfection.seed=1"}, "bodies.0.imperfection.amplitude", "[0, 1)"},
+      {{"bodies.0.imperfection.amplitude=0.01", "bodies.0.imperfection.seed=1", "bodies.0.imperfection.parameters=[\"young\"]"},
+       "bodies.0.imperfection.parameters", "\"friction_angle\""},
+  };
+  for (const auto& bc : cases) {
+    try {
+      config(kBlock, bc.overrides);
+      ADD_FAILURE() << bc.overrides.back() << " was accepted";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(bc.key), std::string::npos) << bc.overrides.back() << ": " << msg;
+      EXPECT_NE(msg.find(bc.words), std::string::npos) << bc.overrides.back() << ": " << msg;
+      EXPECT_NE(msg.find("case.toml"), std::string::npos) << msg;
+    }
+  }
+}
+
+TEST(Geomaterial, ImperfectionNeedsAMohrCoulombMaterial) {
+  std::string text = replace(kBlock, "model = \"mohr_coulomb\"", "model = \"linear_elastic\"");
+  text = replace(text, "cohesion = 8.5e3\nfriction_angle = 30.5\ndilatancy_angle = 0.0\ntension_strength = 0.0\n", "");
+  try {
+    config(text, {"bodies.0.imperfection.amplitude=0.01", "bodies.0.imperfection.seed=1"});
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bodies.0.imperfection"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("mohr_coulomb"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Geomaterial, InitialStressOutsideTheYieldSurfaceIsRefused) {
+  // 10 kPa of tension with sigma_t = 0, and a deviator beyond the Mohr-Coulomb strength.
+  for (const char* o : {"bodies.0.initial_stress.isotropic=10e3", "bodies.0.initial_stress.tensor=[-10e3, -200e3, -10e3, 0]"}) {
+    std::vector<std::string> ov{o};
+    if (std::string(o).find("tensor") != std::string::npos) {
+      const std::string text = replace(kBlock, "isotropic = -100.0e3\n", "");
+      try {
+        build_model<2>(config(text, ov));
+        ADD_FAILURE() << o << " accepted";
+      } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("Mohr-Coulomb shear"), std::string::npos) << e.what();
+      }
+      continue;
+    }
+    try {
+      build_model<2>(config(kBlock, ov));
+      ADD_FAILURE() << o << " accepted";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("bodies.0.initial_stress"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("tension cut-off"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace

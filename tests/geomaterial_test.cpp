@@ -5,6 +5,7 @@
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/solver/simulation.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -227,3 +228,54 @@ TEST(Geomaterial, InitialStressOutsideTheYieldSurfaceIsRefused) {
 }
 
 }  // namespace
+
+// Plane-strain compression through the whole solver: every particle's vertical velocity is
+// prescribed as -rate * y (a homogeneous axial strain rate), the sides are free, and the
+// confining pressure is the initial stress held by eq (2). The lateral strain comes out of the
+// grid momentum balance, so the plateau of q = -<sigma_yy> - p tests the return, eq (2) and the
+// solver together against p (N_phi - 1) + 2 c sqrt(N_phi).
+// The averages are over the whole specimen, as a lab measures forces. The top cell's particles
+// are left out of the per-particle checks: their upper nodes are half-supported, so the projected
+// velocity there is not the prescribed linear field and they see a different strain.
+TEST(Geomaterial, PlaneStrainCompressionThroughTheSolverReachesMohrCoulombStrength) {
+  std::string text = replace(kBlock, "extent = [0.2, 0.2]\ncell_size = 0.01", "extent = [0.1, 0.12]\ncell_size = 0.005");
+  text = replace(text, "min = [0.05, 0.05]\nmax = [0.15, 0.15]",
+                 "min = [0.025, 0.0]\nmax = [0.075, 0.1]\n"
+                 "prescribed_velocity = { y = 0.0 }\nprescribed_velocity_gradient = { y = [0.0, -0.2] }");
+  text = replace(text, "end = 1.0\ncourant = 0.5\nmax_steps = 1000", "end = 0.15\ncourant = 0.5");
+  const double G[] = {1311e3, 6401e3, 8514e3}, P[] = {10e3, 50e3, 100e3};
+  const double N = (1 + std::sin(30.5 * std::numbers::pi / 180)) / (1 - std::sin(30.5 * std::numbers::pi / 180));
+  for (int t = 0; t < 3; ++t) {
+    Model<2> m = build_model<2>(config(text, {fmt::format("materials.0.shear_modulus={}", G[t]),
+                                              fmt::format("bodies.0.initial_stress.isotropic={}", -P[t])}));
+    const auto& p = m.particles;
+    std::vector<std::size_t> inner;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (p.x_p[i][1] < 0.095) inner.push_back(i);
+    double q_peak = 0.0, q_end = 0.0, sxx_err = 0.0;
+    run_simulation<2>(m, quiet(), [&](const ExplicitSolver<2>&) {
+      double syy = 0.0, sxx = 0.0;
+      for (const auto& sig : p.sigma_p) syy += sig[1], sxx += sig[0];
+      const double n = static_cast<double>(p.size());
+      q_end = -syy / n - P[t];
+      q_peak = std::max(q_peak, q_end);
+      sxx_err = std::max(sxx_err, std::abs(sxx / n + P[t]));
+    });
+    const double q_mc = P[t] * (N - 1) + 2 * 8.5e3 * std::sqrt(N);
+    std::printf("p = %3.0f kPa: solver peak q %.3f kPa (%+.2f %%), at 15 %% strain %.3f kPa (%+.2f %%), Mohr-Coulomb %.3f "
+                "kPa; mean sigma_xx off by at most %.3f kPa\n",
+                P[t] / 1e3, q_peak / 1e3, 100 * (q_peak / q_mc - 1), q_end / 1e3, 100 * (q_end / q_mc - 1), q_mc / 1e3,
+                sxx_err / 1e3);
+    EXPECT_NEAR(q_peak, q_mc, 0.005 * q_mc);
+    EXPECT_NEAR(q_end, q_mc, 0.01 * q_mc);
+    EXPECT_LT(sxx_err, 0.01 * P[t]);
+    double plastic_volume = 0.0;
+    std::size_t shear = 0;
+    for (auto i : inner) {
+      plastic_volume = std::max(plastic_volume, std::abs(p.plastic_volume_p[i]));
+      shear += p.yield_p[i] == static_cast<std::uint8_t>(YieldMode::Shear);
+    }
+    EXPECT_LT(plastic_volume, 1e-12) << "psi = 0";
+    EXPECT_EQ(shear, inner.size()) << "every particle flows in shear at 15 % strain";
+  }
+}

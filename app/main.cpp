@@ -1,6 +1,7 @@
 // tsuchi: the command-line program. `tsuchi run FILE` runs a model, `tsuchi check FILE` validates
-// it and prints what a run would do. Exit codes: 0 ok, 1 usage, 2 input, 3 run fault, 4 output,
-// 5 internal error.
+// it and prints what a run would do, `tsuchi element FILE` drives one material point along a
+// lab-test path. Exit codes: 0 ok, 1 usage, 2 input, 3 run fault, 4 output, 5 internal error.
+#include "element_command.hpp"
 #include "progress.hpp"
 
 #include "tsuchi/core/errors.hpp"
@@ -75,6 +76,7 @@ int run(const Config& c, const Options& o) {
   const RunSummary s = run_simulation<D>(m, ro);
   if (!o.quiet) reporter.finish(last);
   const double rate = s.wall_seconds > 0 ? static_cast<double>(s.steps) * static_cast<double>(m.particles.size()) / s.wall_seconds : 0.0;
+  if (!s.stopped_by.empty()) fmt::print("stopped: {}\n", s.stopped_by);
   fmt::print("done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s); {} frames in {}\n", s.steps,
              s.time, s.wall_seconds, rate, s.frames, s.directory);
   return exit_code::ok;
@@ -100,6 +102,13 @@ int main(int argc, char** argv) {
   auto* check_cmd = app.add_subcommand("check", "Validate an input file and print the model summary");
   check_cmd->add_option("file", o.file, "Input file (TOML)")->required();
   check_cmd->add_option("-s,--set", o.overrides, "Override an input key");
+  tsuchi::app::ElementOptions eo;
+  auto* element_cmd =
+      app.add_subcommand("element", "Drive one material point along a stress/strain path (a lab test) to CSV");
+  element_cmd->add_option("file", eo.file, "Element-test input file (TOML)")->required();
+  element_cmd->add_option("-o,--output", eo.output, "CSV file to write (default: FILE's name with .csv, here)");
+  element_cmd->add_option("-s,--set", eo.overrides, "Override an input key, e.g. --set test.confining_pressure=1e5");
+  element_cmd->add_flag("-q,--quiet", eo.quiet, "No summary, only the final lines");
 
   try {
     app.parse(argc, argv);
@@ -107,6 +116,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? exit_code::ok : exit_code::usage;
   }
   try {
+    if (element_cmd->parsed()) return tsuchi::app::run_element_command(eo);
     return dispatch(run_cmd->parsed(), o);
   } catch (const InputError& e) {
     fmt::print(stderr, "\nerror in input: {}\n", e.what());

@@ -6,8 +6,10 @@
 
 #include "tsuchi/io/material_reader.hpp"
 #include "tsuchi/io/toml_section.hpp"
+#include "tsuchi/solver/recorder.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 namespace tsuchi {
@@ -315,6 +317,47 @@ void read_output(Section& s, Config& c) {
   s.finish();
 }
 
+void read_recorder(Section& s, Config& c) {
+  RecorderConfig r;
+  const int dim = c.dimension;
+  r.name = s.string("name", "a column name (letters, digits, _)");
+  const bool valid = !r.name.empty() && !std::isdigit(static_cast<unsigned char>(r.name[0])) &&
+                     std::all_of(r.name.begin(), r.name.end(), [](unsigned char ch) { return std::isalnum(ch) || ch == '_'; });
+  if (!valid) s.fail("name", fmt::format("expected a column name of letters, digits and _, got \"{}\"", r.name));
+  if (r.name == "time" || r.name == "step") s.fail("name", fmt::format("\"{}\" is a column of its own; choose another name", r.name));
+  for (const auto& other : c.recorders)
+    if (other.name == r.name) s.fail("name", fmt::format("recorder \"{}\" is defined twice", r.name));
+  if (s.has("body")) {
+    const std::string body = s.string("body", "the name of a body");
+    auto it = std::find_if(c.bodies.begin(), c.bodies.end(), [&](const BodyConfig& b) { return b.name == body; });
+    if (it == c.bodies.end()) {
+      std::string names;
+      for (const auto& b : c.bodies) names += (names.empty() ? "\"" : ", \"") + b.name + "\"";
+      s.fail("body", fmt::format("expected one of the bodies defined ({}), got \"{}\"", names, body));
+    }
+    r.body = static_cast<int>(it - c.bodies.begin());
+  } else {
+    s.get("body");
+  }
+  if (s.has("min")) r.min = s.vector("min", dim, "m (initial positions)", any);
+  else s.get("min");
+  if (s.has("max")) r.max = s.vector("max", dim, "m (initial positions)", any);
+  else s.get("max");
+  r.quantity = s.string("quantity", "a particle quantity");
+  if (!is_recorder_quantity(r.quantity, dim)) {
+    std::string list;
+    for (const auto& q : recorder_quantities(dim)) list += (list.empty() ? "\"" : ", \"") + q + "\"";
+    s.fail("quantity", fmt::format("expected one of {}, got \"{}\"", list, r.quantity));
+  }
+  r.reduction = static_cast<RecorderConfig::Reduction>(s.choice("reduction", {"mean", "sum", "min", "max"}, 0));
+  r.scale = s.number("scale", "a finite factor", any, 1.0);
+  r.offset = s.number("offset", "a finite offset", any, 0.0);
+  r.stop_above = s.optional_number("stop_above", "a value at which the run stops", any);
+  r.stop_below = s.optional_number("stop_below", "a value at which the run stops", any);
+  s.finish();
+  c.recorders.push_back(r);
+}
+
 // Axis-aligned boxes that share a positive volume.
 bool overlap(const BodyConfig& a, const BodyConfig& b, int dim) {
   for (int d = 0; d < dim; ++d)
@@ -370,6 +413,12 @@ Config read_document(const toml::table& root, const std::string& file) {
   const toml::table* out = top.table("output");
   Section os(out ? *out : no_output, "output", file);
   read_output(os, c);
+
+  const auto recorders = top.tables("recorders");
+  for (std::size_t i = 0; i < recorders.size(); ++i) {
+    Section s(*recorders[i], fmt::format("recorders.{}", i), file);
+    read_recorder(s, c);
+  }
 
   top.finish();
   return c;

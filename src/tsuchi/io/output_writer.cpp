@@ -15,6 +15,12 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, std::string directory)
   csv_ = "time,step,dt,kinetic_energy,strain_energy,gravity_potential,total_energy,mass";
   for (int d = 0; d < D; ++d) csv_ += fmt::format(",momentum_{}", "xyz"[d]);
   csv_ += '\n';
+  for (const auto& rc : model.config.recorders) recorders_.emplace_back(rc, model);
+  if (!recorders_.empty()) {
+    recorder_csv_ = "time,step";
+    for (const auto& r : recorders_) recorder_csv_ += "," + r.config().name;
+    recorder_csv_ += '\n';
+  }
 }
 
 template <int D>
@@ -35,11 +41,16 @@ void OutputWriter<D>::global_row(double time, std::int64_t step, double dt) {
                       q.kinetic_energy + q.strain_energy + q.gravity_potential, q.mass);
   for (int d = 0; d < D; ++d) csv_ += fmt::format(",{:.12g}", q.momentum[d]);
   csv_ += '\n';
+  if (recorders_.empty()) return;
+  recorder_csv_ += fmt::format("{:.12g},{}", time, step);
+  for (const auto& r : recorders_) recorder_csv_ += fmt::format(",{:.12g}", r.value(m_.particles));
+  recorder_csv_ += '\n';
 }
 
 template <int D>
 void OutputWriter<D>::flush_global() {
   write_file_atomically(dir_ + "/global.csv", csv_);
+  if (!recorders_.empty()) write_file_atomically(dir_ + "/recorders.csv", recorder_csv_);
 }
 
 template class OutputWriter<2>;

@@ -3,8 +3,10 @@
 //   particles_NNNNNN.vtu  one frame per output interval (binary VTK XML)
 //   particles.pvd         the time series ParaView opens, listing only complete frames
 //   global.csv            time series of whole-model quantities
+//   recorders.csv         time series of the input's recorders (when it has any), same rows
 // Every file is replaced atomically, so a run killed at any moment leaves only complete files.
 #include "tsuchi/model/model.hpp"
+#include "tsuchi/solver/recorder.hpp"
 
 #include <string>
 #include <utility>
@@ -31,6 +33,8 @@ class OutputWriter {
   std::string dir_;
   std::vector<std::pair<double, std::string>> frames_;
   std::string csv_;
+  std::vector<Recorder<D>> recorders_;
+  std::string recorder_csv_;
 };
 
 extern template class OutputWriter<2>;

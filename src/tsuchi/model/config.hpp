@@ -96,6 +96,19 @@ struct OutputConfig {
   bool write_frames = true;
 };
 
+// A recorded quantity: `reduction` over a particle set of one per-particle quantity, written as
+// scale * value + offset to recorders.csv; optionally the run stops when it crosses a bound.
+struct RecorderConfig {
+  enum class Reduction { Mean, Sum, Min, Max };
+  std::string name;
+  int body = -1;                       // -1: every body
+  std::optional<Triple> min, max;      // box of initial positions; unset: no limit
+  std::string quantity;                // e.g. "stress_yy", "displacement_x", "max_shear_strain"
+  Reduction reduction = Reduction::Mean;
+  double scale = 1.0, offset = 0.0;
+  std::optional<double> stop_above, stop_below;
+};
+
 struct Config {
   std::string source;  // file the configuration came from, for messages
   std::string title;
@@ -108,6 +121,7 @@ struct Config {
   SolverConfig solver;
   TimeConfig time;
   OutputConfig output;
+  std::vector<RecorderConfig> recorders;
 };
 
 const char* to_string(Scheme s);

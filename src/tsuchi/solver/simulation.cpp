@@ -2,6 +2,7 @@
 
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/io/output_writer.hpp"
+#include "tsuchi/solver/recorder.hpp"
 #include "tsuchi/solver/time_step.hpp"
 
 #include <fmt/format.h>
@@ -47,6 +48,11 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
     out->global_row(0.0, 0, 0.0);
     out->frame(0.0);
   }
+  // Recorders with a stop bound are evaluated after every step; the others only on output rows.
+  std::vector<Recorder<D>> stops;
+  for (const auto& rc : model.config.recorders)
+    if (rc.stop_above || rc.stop_below) stops.emplace_back(rc, model);
+  std::string stopped_by;
   std::int64_t frame_index = 1, row_index = 1;
   auto frame_time = [&](std::int64_t k) { return oc.interval > 0 ? std::min(end, static_cast<double>(k) * oc.interval) : end; };
   double next_frame = frame_time(frame_index);
@@ -93,6 +99,11 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
       }
       if (options.on_progress)
         options.on_progress({solver.steps(), now, end, dt, out ? out->frames_written() : 0});
+      for (const auto& r : stops) {
+        stopped_by = r.stop_reason(r.value(model.particles));
+        if (!stopped_by.empty()) break;
+      }
+      if (!stopped_by.empty()) break;
     }
   } catch (...) {
     if (out) out->flush_global();  // keep the history up to the failure
@@ -109,6 +120,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   s.wall_seconds = std::chrono::duration<double>(clock::now() - wall_start).count();
   s.frames = out ? out->frames_written() : 0;
   s.directory = dir;
+  s.stopped_by = stopped_by;
   return s;
 }
 

@@ -30,6 +30,7 @@ struct RunSummary {
   double wall_seconds = 0.0;
   std::size_t frames = 0;
   std::string directory;
+  std::string stopped_by;  // the recorder bound that ended the run early, if one did
 };
 
 // The step size for the next step from the time settings and the current critical step;

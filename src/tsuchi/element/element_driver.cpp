@@ -1,0 +1,261 @@
+#include "tsuchi/element/element_driver.hpp"
+
+#include "tsuchi/core/errors.hpp"
+
+#include <Eigen/LU>
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <variant>
+
+namespace tsuchi::element {
+
+namespace {
+
+using Stiffness = Eigen::Matrix<double, 6, 6>;
+// At most six unknowns: fixed-capacity storage keeps the iteration free of heap traffic.
+using VecU = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
+using MatU = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
+
+struct PointState {
+  Voigt<3> stress = Voigt<3>::Zero();
+  PlasticPoint plastic;
+};
+
+// The state is taken by value: trial evaluations must never touch the committed history.
+PointState advance(const LinearElastic& m, PointState s, const Voigt<3>& d_eps) {
+  m.update<3>(s.stress, d_eps);
+  return s;
+}
+
+PointState advance(const MohrCoulomb& m, PointState s, const Voigt<3>& d_eps) {
+  m.update<3>(s.stress, d_eps, s.plastic);
+  return s;
+}
+
+// Hooke's law on tensor components (sigma_xy = 2 G eps_xy), for the first guess and as the
+// fallback tangent where the finite-difference one is singular.
+Stiffness elastic_stiffness(const LinearElastic& e) {
+  Stiffness c = Stiffness::Zero();
+  const double lambda = e.K - 2.0 * e.G / 3.0;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) c(i, j) = lambda;
+    c(i, i) += 2.0 * e.G;
+  }
+  for (int k = 3; k < 6; ++k) c(k, k) = 2.0 * e.G;
+  return c;
+}
+
+double max_abs(const Voigt<3>& v) { return v.cwiseAbs().maxCoeff(); }
+
+// Position of an increment along the path, for messages.
+struct Where {
+  long increment;
+  int segment, k, n;
+
+  std::string text() const {
+    return fmt::format("increment {} (segment {}, increment {} of {})", increment, segment, k, n);
+  }
+};
+
+// One increment under mixed control: the driven strain components are known, the others must be
+// found so that the updated stress meets `target` on them.
+struct MixedIncrement {
+  Voigt<3> given = Voigt<3>::Zero();  // strain increment of the driven components (others 0)
+  std::array<int, n_components> unknown{};
+  std::array<bool, n_components> held{};  // of each unknown: held at its start value, not loaded
+  int m = 0;
+  VecU target;
+};
+
+template <class Model>
+class Driver {
+ public:
+  Driver(const Model& model, const LinearElastic& elastic, const IterationSettings& settings)
+      : model_(model), C_(elastic_stiffness(elastic)), M_(elastic.constrained_modulus()), settings_(settings) {}
+
+  void run(const ElementPath& path, const std::function<void(const ElementRow&)>& on_row) const {
+    PointState state;
+    state.stress = path.initial_stress;
+    Voigt<3> strain = Voigt<3>::Zero();
+    long increment = 0;
+    on_row(row(increment, 0, strain, state));
+    for (std::size_t s = 0; s < path.segments.size(); ++s) {
+      const Segment& seg = path.segments[s];
+      const Voigt<3> sigma0 = state.stress;
+      MixedIncrement inc;
+      for (int c = 0; c < n_components; ++c) {
+        if (seg.control[c].by_stress()) {
+          inc.held[inc.m] = seg.control[c].kind == Control::StressHold;
+          inc.unknown[inc.m++] = c;
+        }
+        else inc.given[c] = seg.control[c].value / seg.increments;
+      }
+      inc.target.resize(inc.m);
+      VecU previous;  // unknown strains of the last increment: the best guess in steady flow
+      for (int k = 1; k <= seg.increments; ++k) {
+        ++increment;
+        const Where where{increment, static_cast<int>(s), k, seg.increments};
+        // Targets are interpolated from the segment's start, so the last one is met exactly.
+        const double f = static_cast<double>(k) / seg.increments;
+        for (int a = 0; a < inc.m; ++a) {
+          const int c = inc.unknown[a];
+          const ComponentControl& ctl = seg.control[c];
+          inc.target[a] = ctl.kind == Control::StressHold ? sigma0[c] : sigma0[c] + (ctl.value - sigma0[c]) * f;
+        }
+        Voigt<3> d_eps = inc.given;
+        const PointState next = inc.m == 0 ? advance(model_, state, d_eps) : solve(state, inc, previous, where, d_eps);
+        if (!next.stress.allFinite())
+          throw RunError(fmt::format("{}: the stress became non-finite", where.text()));
+        previous.resize(inc.m);
+        for (int a = 0; a < inc.m; ++a) previous[a] = d_eps[inc.unknown[a]];
+        state = next;
+        strain += d_eps;
+        on_row(row(increment, static_cast<int>(s), strain, state));
+      }
+    }
+  }
+
+ private:
+  static ElementRow row(long increment, int segment, const Voigt<3>& strain, const PointState& s) {
+    ElementRow r;
+    r.increment = increment;
+    r.segment = segment;
+    r.strain = strain;
+    r.stress = s.stress;
+    r.mode = s.plastic.mode;
+    r.plastic_shear_strain = s.plastic.plastic_shear;
+    r.plastic_volumetric_strain = s.plastic.plastic_volume;
+    return r;
+  }
+
+  // Newton's method on the unknown strain components. Fills the unknown entries of d_eps and
+  // returns the converged state.
+  PointState solve(const PointState& start, const MixedIncrement& inc, const VecU& previous, const Where& where,
+                   Voigt<3>& d_eps) const {
+    const int m = inc.m;
+    const double scale = std::max({max_abs(start.stress), inc.target.cwiseAbs().maxCoeff(), M_ * max_abs(inc.given), 1.0});
+    const double tol = settings_.tolerance * scale;
+    // Finite-difference steps move the stress by ~1e-7 of its scale: far above round-off, small
+    // enough that the tangent is that of the current piece of the (piecewise smooth) return.
+    const double strain_scale = scale / M_;
+
+    const auto evaluate = [&](const VecU& x, PointState& out) {
+      Voigt<3> de = inc.given;
+      for (int a = 0; a < m; ++a) de[inc.unknown[a]] = x[a];
+      out = advance(model_, start, de);
+      VecU r(m);
+      for (int a = 0; a < m; ++a) r[a] = out.stress[inc.unknown[a]] - inc.target[a];
+      return r;
+    };
+
+    MatU C_uu(m, m);
+    VecU rhs(m);
+    for (int a = 0; a < m; ++a) {
+      const int ca = inc.unknown[a];
+      rhs[a] = inc.target[a] - start.stress[ca] - C_.row(ca).dot(inc.given);
+      for (int b = 0; b < m; ++b) C_uu(a, b) = C_(ca, inc.unknown[b]);
+    }
+    const Eigen::PartialPivLU<MatU> elastic_lu(C_uu);
+
+    // First guess: the elastic predictor, or the last increment's strains if they do better.
+    VecU x = elastic_lu.solve(rhs);
+    PointState state;
+    VecU r = evaluate(x, state);
+    if (previous.size() == m) {
+      PointState s2;
+      const VecU r2 = evaluate(previous, s2);
+      if (r2.allFinite() && !(r2.norm() >= r.norm())) x = previous, r = r2, state = s2;
+    }
+
+    int iterations = 0;
+    const char* reason = nullptr;
+    while (!(r.cwiseAbs().maxCoeff() <= tol)) {
+      if (iterations == settings_.max_iterations) {
+        reason = "no convergence";
+        break;
+      }
+      ++iterations;
+      MatU J(m, m);
+      for (int b = 0; b < m; ++b) {
+        VecU xp = x;
+        const double h = 1e-7 * std::max(std::abs(x[b]), strain_scale);
+        xp[b] += h;
+        PointState tmp;
+        J.col(b) = (evaluate(xp, tmp) - r) / h;
+      }
+      const Eigen::FullPivLU<MatU> lu(J);
+      VecU dx = lu.isInvertible() ? VecU(-lu.solve(r)) : VecU(-elastic_lu.solve(r));
+      if (!dx.allFinite()) dx = -elastic_lu.solve(r);
+      // Backtracking on |r|: the return mapping has kinks where the active yield planes change,
+      // and a full step across one can overshoot.
+      const auto try_step = [&](const VecU& step) {
+        double alpha = 1.0;
+        for (int ls = 0; ls < 30; ++ls, alpha *= 0.5) {
+          PointState st;
+          const VecU xt = x + alpha * step;
+          const VecU rt = evaluate(xt, st);
+          if (rt.allFinite() && rt.norm() < (1.0 - 1e-4 * alpha) * r.norm()) {
+            x = xt, r = rt, state = st;
+            return true;
+          }
+        }
+        return false;
+      };
+      if (!try_step(dx) && !try_step(VecU(-elastic_lu.solve(r)))) {
+        reason = "the iteration stalled";
+        break;
+      }
+    }
+    if (reason) throw RunError(failure(where, inc, state, reason, iterations, tol));
+    for (int a = 0; a < m; ++a) d_eps[inc.unknown[a]] = x[a];
+    return state;
+  }
+
+  // The targets cannot be met together: list every stress-controlled component (the loaded ones
+  // first, as the likely cause) with what it reached.
+  static std::string failure(const Where& where, const MixedIncrement& inc, const PointState& state, const char* reason,
+                             int iterations, double tol) {
+    std::string list, loaded;
+    for (bool held : {false, true})
+      for (int a = 0; a < inc.m; ++a) {
+        if (inc.held[a] != held) continue;
+        const int c = inc.unknown[a];
+        list += fmt::format("{}sig_{} {} {:.9g} Pa reached {:.9g} Pa", list.empty() ? "" : "; ", component_name[c],
+                            held ? "held at" : "loaded to", inc.target[a], state.stress[c]);
+        if (!held) loaded += fmt::format("{}sig_{}", loaded.empty() ? "" : " or ", component_name[c]);
+      }
+    return fmt::format(
+        "{}: the stress targets cannot be met ({} after {} iterations, tolerance {:.3g} Pa): {}. The stress asked for "
+        "is probably beyond the material's strength, which stress control cannot follow: drive {} by strain instead",
+        where.text(), reason, iterations, tol, list, loaded.empty() ? "one of these components" : loaded);
+  }
+
+  const Model& model_;
+  Stiffness C_;
+  double M_;
+  IterationSettings settings_;
+};
+
+}  // namespace
+
+void drive_element(const Material& material, const ElementPath& path, const IterationSettings& settings,
+                   const std::function<void(const ElementRow&)>& on_row) {
+  std::visit(
+      [&](const auto& model) {
+        Driver<std::decay_t<decltype(model)>>(model, material.elastic(), settings).run(path, on_row);
+      },
+      material.model);
+}
+
+std::vector<ElementRow> drive_element(const Material& material, const ElementPath& path,
+                                      const IterationSettings& settings) {
+  std::vector<ElementRow> rows;
+  rows.reserve(static_cast<std::size_t>(path.total_increments()) + 1);
+  drive_element(material, path, settings, [&](const ElementRow& r) { rows.push_back(r); });
+  return rows;
+}
+
+}  // namespace tsuchi::element

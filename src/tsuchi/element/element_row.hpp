@@ -1,0 +1,50 @@
+#pragma once
+// One state along an element path (a CSV row) and the lab quantities derived from it.
+//
+// The tensor components keep the solver's sign (tension positive); the derived quantities follow
+// soil mechanics (p and eps_v compression positive) because that is how lab results are read.
+#include "tsuchi/core/principal.hpp"
+#include "tsuchi/core/principal_frame.hpp"
+#include "tsuchi/core/tensor.hpp"
+#include "tsuchi/material/mohr_coulomb.hpp"
+
+#include <cmath>
+
+namespace tsuchi::element {
+
+struct ElementRow {
+  long increment = 0;  // 0 is the initial state; counted over all segments
+  int segment = 0;     // 0-based, as in the input's key paths
+  Voigt<3> strain = Voigt<3>::Zero();  // accumulated small strain (sum of the increments)
+  Voigt<3> stress = Voigt<3>::Zero();
+  YieldMode mode = YieldMode::Elastic;  // of the increment that led here
+  // As the run's particle fields of the same names: accumulated eps1_p - eps3_p, and accumulated
+  // plastic volumetric strain, dilation positive.
+  double plastic_shear_strain = 0.0;
+  double plastic_volumetric_strain = 0.0;
+
+  // Mean stress, compression positive.
+  double p() const { return -trace<3>(stress) / 3.0; }
+
+  // Von Mises equivalent stress q = sqrt(3 J2); equals sigma1 - sigma3 in a triaxial test.
+  double q() const {
+    Voigt<3> s = stress;
+    const double mean = trace<3>(stress) / 3.0;
+    for (int i = 0; i < 3; ++i) s[i] -= mean;
+    return std::sqrt(1.5 * contract<3>(s, s));
+  }
+
+  // Largest minus smallest principal stress: the deviator at failure of any Mohr-Coulomb test.
+  // (The iterative eigen-solver of PrincipalFrame: the direct one loses ~1e-9 relative.)
+  double deviator() const {
+    const Eigen::Vector3d v = PrincipalFrame<3>(stress).values;
+    return v[2] - v[0];
+  }
+
+  // Volumetric strain, compression positive.
+  double eps_v() const { return -trace<3>(strain); }
+
+  double gamma_max() const { return max_shear_strain<3>(strain); }
+};
+
+}  // namespace tsuchi::element

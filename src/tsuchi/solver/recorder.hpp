@@ -1,0 +1,39 @@
+#pragma once
+// Recorders: one number per row of recorders.csv, a reduction (mean, sum, min, max) of one
+// per-particle quantity over a particle set chosen once, at the start, by body and by a box of
+// initial positions. What a lab measures (a platen's displacement, the mean stress on a boundary
+// row) is written as recorders in the input file rather than coded per case.
+#include "tsuchi/model/model.hpp"
+
+#include <string>
+#include <vector>
+
+namespace tsuchi {
+
+// The per-particle quantity names a recorder accepts, for messages and docs.
+const std::vector<std::string>& recorder_quantities(int dimension);
+bool is_recorder_quantity(const std::string& name, int dimension);
+
+template <int D>
+class Recorder {
+ public:
+  Recorder(const RecorderConfig& config, const Model<D>& model);
+
+  double value(const Particles<D>& p) const;  // scale * reduction + offset
+  const RecorderConfig& config() const { return c_; }
+  std::size_t size() const { return set_.size(); }
+  // Non-empty when the value has crossed its stop bound: says which and where.
+  std::string stop_reason(double value) const;
+
+ private:
+  double particle_value(const Particles<D>& p, std::size_t i) const;
+
+  RecorderConfig c_;
+  std::vector<std::size_t> set_;
+  int kind_ = 0, component_ = 0;
+};
+
+extern template class Recorder<2>;
+extern template class Recorder<3>;
+
+}  // namespace tsuchi

@@ -1,0 +1,139 @@
+// Recorders: the particle set, the reductions and the stop bound, and their input checks.
+#include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/config_reader.hpp"
+#include "tsuchi/solver/recorder.hpp"
+#include "tsuchi/solver/simulation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace tsuchi;
+
+// An elastic block moving at 1 m/s along x, under gravity along y, with recorders.
+const std::string kMoving = R"([model]
+dimension = 2
+gravity = [0.0, -10.0]
+
+[grid]
+origin = [0.0, 0.0]
+extent = [1.0, 0.5]
+cell_size = 0.05
+
+[[materials]]
+name = "rock"
+model = "linear_elastic"
+density = 2000.0
+youngs_modulus = 1.0e8
+poisson_ratio = 0.25
+
+[[bodies]]
+name = "block"
+material = "rock"
+min = [0.1, 0.1]
+max = [0.3, 0.3]
+velocity = [1.0, 0.0]
+
+[[bodies]]
+name = "other"
+material = "rock"
+min = [0.5, 0.1]
+max = [0.6, 0.2]
+
+[time]
+end = 1.0
+courant = 0.5
+
+[output]
+frames = false
+
+[[recorders]]
+name = "drift"
+body = "block"
+quantity = "displacement_x"
+scale = 100.0
+stop_above = 5.0
+
+[[recorders]]
+name = "bottom_row_y"
+body = "block"
+max = [1.0, 0.115]
+quantity = "position_y"
+reduction = "min"
+
+[[recorders]]
+name = "mass"
+quantity = "mass"
+reduction = "sum"
+)";
+
+Config config(const std::vector<std::string>& overrides = {}) { return read_config_string(kMoving, "case.toml", overrides); }
+
+TEST(Recorders, SelectAndReduce) {
+  const Config c = config();
+  const Model<2> m = build_model<2>(c);
+  const Recorder<2> drift(c.recorders[0], m), bottom(c.recorders[1], m), mass(c.recorders[2], m);
+  EXPECT_EQ(drift.size(), 64u);   // 4 x 4 cells, 2 x 2 particles each
+  EXPECT_EQ(bottom.size(), 8u);   // the bottom row of the block: y0 = 0.1125
+  EXPECT_EQ(mass.size(), 64u + 16u);
+  EXPECT_DOUBLE_EQ(bottom.value(m.particles), 0.1125);
+  EXPECT_NEAR(mass.value(m.particles), 2000.0 * (0.04 + 0.01), 1e-9);
+  EXPECT_EQ(drift.value(m.particles), 0.0);
+}
+
+TEST(Recorders, StopBoundEndsTheRunAtTheFirstCrossing) {
+  Config c = config();
+  Model<2> m = build_model<2>(c);
+  const Recorder<2> drift(c.recorders[0], m);
+  double before = 0.0, last = 0.0;
+  RunOptions o;
+  o.write_output = false;
+  const RunSummary s = run_simulation<2>(m, o, [&](const ExplicitSolver<2>&) {
+    before = last;
+    last = drift.value(m.particles);
+  });
+  // Free flight at 1 m/s: 5 cm of drift at t = 0.05 s.
+  EXPECT_NE(s.stopped_by.find("drift reached"), std::string::npos) << s.stopped_by;
+  EXPECT_GE(last, 5.0);
+  EXPECT_LT(before, 5.0);
+  EXPECT_NEAR(s.time, 0.05, 2e-3);
+}
+
+TEST(Recorders, BadInputNamesTheKey) {
+  const struct {
+    std::string override_, key, words;
+  } cases[] = {
+      {"recorders.0.quantity=\"stress\"", "recorders.0.quantity", "\"stress_xy\""},
+      {"recorders.0.quantity=\"velocity_z\"", "recorders.0.quantity", "expected one of"},
+      {"recorders.0.body=\"lid\"", "recorders.0.body", "\"block\", \"other\""},
+      {"recorders.1.name=\"drift\"", "recorders.1.name", "defined twice"},
+      {"recorders.1.name=\"time\"", "recorders.1.name", "column of its own"},
+      {"recorders.1.name=\"q kPa\"", "recorders.1.name", "letters, digits and _"},
+      {"recorders.2.reduction=\"median\"", "recorders.2.reduction", "\"max\""},
+      {"recorders.1.max=[1.0]", "recorders.1.max", "2 numbers"},
+  };
+  for (const auto& bc : cases) {
+    try {
+      config({bc.override_});
+      ADD_FAILURE() << bc.override_ << " accepted";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(bc.key), std::string::npos) << msg;
+      EXPECT_NE(msg.find(bc.words), std::string::npos) << msg;
+    }
+  }
+  // A box that holds no particle of the body is found when the model is built.
+  try {
+    build_model<2>(config({"recorders.1.max=[1.0, 0.05]"}));
+    ADD_FAILURE() << "empty selection accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("selects no particle"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace

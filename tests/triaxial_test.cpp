@@ -1,0 +1,72 @@
+// The triaxial study of the paper, reduced for ctest: the example inputs of examples/triaxial on
+// a 5 mm grid (800 + 80 particles) to 6 % axial strain. The full study is examples/triaxial/study.py.
+#include "tsuchi/io/config_reader.hpp"
+#include "tsuchi/model/model.hpp"
+#include "tsuchi/solver/global_quantities.hpp"
+#include "tsuchi/solver/recorder.hpp"
+#include "tsuchi/solver/simulation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace tsuchi;
+
+struct Reduced {
+  double q_peak = 0.0, q_end = 0.0, strain_end = 0.0, mass_change = 0.0, cap_dx = 0.0;
+  std::string stopped_by;
+};
+
+Reduced run_reduced(const std::string& name, double strain) {
+  const std::string file = std::string(TSUCHI_SOURCE_DIR) + "/examples/triaxial/" + name + ".toml";
+  Model<2> m = build_model<2>(read_config_file(
+      file, {"grid.cell_size=0.005", "recorders.1.max=[1.0, 0.0025]", "recorders.2.max=[1.0, 0.0025]",
+             "recorders.0.stop_above=" + std::to_string(strain), "output.frames=false"}));
+  std::vector<Recorder<2>> rec;
+  for (const auto& rc : m.config.recorders) rec.emplace_back(rc, m);
+  const double mass0 = global_quantities<2>(m).mass;
+  Reduced r;
+  RunOptions o;
+  o.write_output = false;
+  const RunSummary s = run_simulation<2>(m, o, [&](const ExplicitSolver<2>& solver) {
+    if (solver.steps() % 20) return;
+    r.q_peak = std::max(r.q_peak, rec[2].value(m.particles));
+  });
+  r.q_end = rec[2].value(m.particles);
+  r.strain_end = rec[0].value(m.particles);
+  r.cap_dx = rec[3].value(m.particles);
+  r.mass_change = global_quantities<2>(m).mass / mass0 - 1.0;
+  r.stopped_by = s.stopped_by;
+  return r;
+}
+
+double mohr_coulomb_peak(double p) {
+  const double s = std::sin(30.5 * std::numbers::pi / 180.0), N = (1 + s) / (1 - s);
+  return p * (N - 1) + 2 * 8.5 * std::sqrt(N);
+}
+
+TEST(Triaxial, ReducedFixedCapReachesTheMohrCoulombPeak) {
+  const struct {
+    const char* name;
+    double p;
+  } cases[] = {{"test1_fixed", 10.0}, {"test3_fixed", 100.0}};
+  for (const auto& c : cases) {
+    const Reduced r = run_reduced(c.name, 0.06);
+    const double q_mc = mohr_coulomb_peak(c.p);
+    std::printf("%s (5 mm grid, to %.1f %%): peak q %.2f kPa, Mohr-Coulomb %.2f kPa (%+.1f %%), q at the end %.2f kPa\n",
+                c.name, 100 * r.strain_end, r.q_peak, q_mc, 100 * (r.q_peak / q_mc - 1), r.q_end);
+    EXPECT_NEAR(r.q_peak, q_mc, 0.10 * q_mc) << c.name;
+    EXPECT_NEAR(r.strain_end, 0.06, 1e-3) << "the axial-strain recorder stops the run";
+    EXPECT_NE(r.stopped_by.find("axial_strain"), std::string::npos);
+    EXPECT_LT(std::abs(r.mass_change), 1e-12);
+    EXPECT_EQ(r.cap_dx, 0.0) << "the fixed cap does not move sideways";
+  }
+}
+
+}  // namespace

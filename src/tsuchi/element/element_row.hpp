@@ -24,7 +24,7 @@ struct ElementRow {
   double plastic_volumetric_strain = 0.0;
 
   // Mean stress, compression positive.
-  double p() const { return -trace<3>(stress) / 3.0; }
+  double p() const { return 0.0 - trace<3>(stress) / 3.0; }
 
   // Von Mises equivalent stress q = sqrt(3 J2); equals sigma1 - sigma3 in a triaxial test.
   double q() const {
@@ -42,7 +42,7 @@ struct ElementRow {
   }
 
   // Volumetric strain, compression positive.
-  double eps_v() const { return -trace<3>(strain); }
+  double eps_v() const { return 0.0 - trace<3>(strain); }  // 0 - x, not -x: no "-0" in the CSV
 
   double gamma_max() const { return max_shear_strain<3>(strain); }
 };

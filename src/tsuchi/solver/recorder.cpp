@@ -128,8 +128,10 @@ double Recorder<D>::value(const Particles<D>& p) const {
 
 template <int D>
 std::string Recorder<D>::stop_reason(double v) const {
-  if (c_.stop_above && v >= *c_.stop_above) return fmt::format("{} reached {:.6g} (stop_above = {:.6g})", c_.name, v, *c_.stop_above);
-  if (c_.stop_below && v <= *c_.stop_below) return fmt::format("{} reached {:.6g} (stop_below = {:.6g})", c_.name, v, *c_.stop_below);
+  // Round-off must not cost a step: a platen that reaches its bound exactly at a frame time stops there.
+  const auto tol = [](double b) { return 1e-9 * std::max(1.0, std::abs(b)); };
+  if (c_.stop_above && v >= *c_.stop_above - tol(*c_.stop_above)) return fmt::format("{} reached {:.6g} (stop_above = {:.6g})", c_.name, v, *c_.stop_above);
+  if (c_.stop_below && v <= *c_.stop_below + tol(*c_.stop_below)) return fmt::format("{} reached {:.6g} (stop_below = {:.6g})", c_.name, v, *c_.stop_below);
   return {};
 }
 

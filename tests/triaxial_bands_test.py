@@ -1,0 +1,70 @@
+"""The reduced triaxial run of ctest, end to end: tsuchi runs test 1 with the cap fixed on a
+2.5 mm grid (3200 + 320 particles) to 6 % axial strain, then the band detector must find the X of
+two bands of opposite sense, inclined 45-60 degrees from horizontal in the initial configuration,
+and the recorded peak q must be within 10 % of the Mohr-Coulomb value.
+
+usage: triaxial_bands_test.py PATH_TO_TSUCHI
+"""
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.normpath(os.path.join(HERE, ".."))
+sys.path.insert(0, os.path.join(REPO, "tools"))
+import numpy as np  # noqa: E402
+from bands import bands_of_frame  # noqa: E402
+from vtu import read_pvd  # noqa: E402
+
+TSUCHI = sys.argv.pop(1) if len(sys.argv) > 1 else os.path.join(REPO, "build", "app", "tsuchi")
+
+
+def mohr_coulomb_peak(p_kpa, c_kpa=8.5, phi_deg=30.5):
+    s = math.sin(math.radians(phi_deg))
+    n = (1 + s) / (1 - s)
+    return p_kpa * (n - 1) + 2 * c_kpa * math.sqrt(n)
+
+
+class ReducedTriaxial(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.out = tempfile.mkdtemp(prefix="tsuchi_triaxial_")
+        cmd = [TSUCHI, "run", os.path.join(REPO, "examples", "triaxial", "test1_fixed.toml"), "-q",
+               "--output", cls.out, "--set", "grid.cell_size=0.0025",
+               "--set", "recorders.1.max=[1.0, 0.00125]", "--set", "recorders.2.max=[1.0, 0.00125]",
+               "--set", "recorders.0.stop_above=0.06", "--set", "output.interval=0.3"]
+        cls.run_result = subprocess.run(cmd, capture_output=True, text=True)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.out, ignore_errors=True)
+
+    def test_run_finishes_at_the_stop_strain(self):
+        self.assertEqual(self.run_result.returncode, 0, self.run_result.stderr)
+        self.assertIn("stopped: axial_strain reached", self.run_result.stdout)
+
+    def test_peak_deviator_within_ten_percent(self):
+        rec = np.genfromtxt(os.path.join(self.out, "recorders.csv"), delimiter=",", names=True)
+        peak, expected = rec["q_kPa"].max(), mohr_coulomb_peak(10.0)
+        print(f"reduced test 1, cap fixed: peak q {peak:.2f} kPa, Mohr-Coulomb {expected:.2f} kPa")
+        self.assertLess(abs(peak / expected - 1), 0.10)
+        self.assertLess(np.ptp(rec["specimen_mass"]), 1e-12 * rec["specimen_mass"][0])
+
+    def test_an_x_of_two_bands(self):
+        _, last = read_pvd(os.path.join(self.out, "particles.pvd"))[-1]
+        bands, *_ = bands_of_frame(os.path.join(self.out, last), reference=True)
+        for b in bands:
+            print(f"band {b.angle:+.1f} deg ({b.sense}), explained {b.explained:.2f}")
+        self.assertEqual(len(bands), 2)
+        self.assertLess(bands[0].angle * bands[1].angle, 0, "opposite senses")
+        for b in bands:
+            self.assertGreaterEqual(b.inclination, 45.0)
+            self.assertLessEqual(b.inclination, 60.0)
+
+
+if __name__ == "__main__":
+    unittest.main()

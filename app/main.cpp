@@ -11,6 +11,7 @@
 #include "tsuchi/solver/time_step.hpp"
 
 #include <CLI/CLI.hpp>
+#include <omp.h>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -25,6 +26,7 @@ struct Options {
   std::string output;
   std::vector<std::string> overrides;
   bool quiet = false;
+  int threads = 0;  // 0: OpenMP's default (OMP_NUM_THREADS, else every core)
 };
 
 template <int D>
@@ -51,6 +53,7 @@ void print_summary(const Model<D>& m, const std::string& output_dir) {
              c.output.global_interval > 0 ? fmt::format(", global.csv every {} s", c.output.global_interval)
                                           : ", global.csv every step");
   fmt::print("memory     about {:.1f} MB\n", static_cast<double>(m.bytes()) / 1e6);
+  fmt::print("threads    {}\n", omp_get_max_threads());
 }
 
 template <int D>
@@ -83,6 +86,7 @@ int run(const Config& c, const Options& o) {
 }
 
 int dispatch(bool run_it, const Options& o) {
+  if (o.threads > 0) omp_set_num_threads(o.threads);
   const Config c = read_config_file(o.file, o.overrides);
   if (c.dimension == 2) return run_it ? run<2>(c, o) : check<2>(c);
   return run_it ? run<3>(c, o) : check<3>(c);
@@ -99,6 +103,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("-o,--output", o.output, "Output directory (overrides output.directory)");
   run_cmd->add_option("-s,--set", o.overrides, "Override an input key, e.g. --set time.end=0.5");
   run_cmd->add_flag("-q,--quiet", o.quiet, "No summary or progress");
+  run_cmd->add_option("-j,--threads", o.threads, "Threads (default: OMP_NUM_THREADS, else every core); results do not depend on it")
+      ->check(CLI::Range(1, 1024));
   auto* check_cmd = app.add_subcommand("check", "Validate an input file and print the model summary");
   check_cmd->add_option("file", o.file, "Input file (TOML)")->required();
   check_cmd->add_option("-s,--set", o.overrides, "Override an input key");

@@ -47,7 +47,9 @@ def run_case(case, args):
             os.remove(os.path.join(out, name))
     cmd = [args.tsuchi, "run", os.path.join(HERE, f"{case}.toml"), "--output", out,
            "--set", f"recorders.0.stop_above={args.strain:g}",
-           "--set", f"time.end={args.strain * 5 + 0.05:g}"]
+           "--set", f"time.end={args.strain * 5 + 0.05:g}",
+           # Share the cores between the runs: more threads than cores would make each run crawl.
+           "--threads", str(max(1, (os.cpu_count() or 1) // max(1, args.jobs)))]
     record = {"case": case, "command": " ".join(cmd)}
     start = time.perf_counter()
     with open(os.path.join(out, "run.log"), "w") as log:

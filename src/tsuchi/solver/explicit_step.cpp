@@ -30,6 +30,7 @@ template <int D>
 template <class Kernel>
 void ExplicitSolver<D>::step_with(double dt) {
   auto& g = m_.grid;
+  schedule_.build(g, m_.particles.x_p);  // every stage below uses the start-of-step positions
   switch (m_.config.solver.scheme) {
     case Scheme::USF:
       // The GIMP domain update waits until the end of the step: the later stages must use the
@@ -75,8 +76,8 @@ void ExplicitSolver<D>::p2g(bool mass_momentum, bool force) {
   if (force) std::fill(g.f_g.begin(), g.f_g.end(), Vec<D>::Zero());
   Vec<D> b;
   for (int d = 0; d < D; ++d) b[d] = m_.config.gravity[d];
-  Stencil<D, Kernel> st;
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  schedule_.scatter([&](std::size_t i) {
+    Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
     const double m = p.m_p[i];
     const Mat3 s = to_matrix<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i]));
@@ -92,7 +93,7 @@ void ExplicitSolver<D>::p2g(bool mass_momentum, bool force) {
       }
       if (force) g.f_g[k] += st.S[n] * mb - V * (stress * st.G[n]);
     }
-  }
+  });
 }
 
 // v_g = p_g / m_g on nodes heavier than the floor, then the velocity boundary conditions.
@@ -100,7 +101,9 @@ template <int D>
 void ExplicitSolver<D>::nodal_velocity() {
   auto& g = m_.grid;
   const double floor = m_.node_mass_floor;
-  for (std::size_t k = 0; k < g.size(); ++k) {
+  const auto n = static_cast<std::int64_t>(g.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t k = 0; k < n; ++k) {
     Vec<D> v = g.m_g[k] > floor ? Vec<D>(g.p_g[k] / g.m_g[k]) : Vec<D>::Zero();
     for (int d = 0; d < D; ++d)
       if (g.fixed_g[k] & (1u << d)) v[d] = 0.0;
@@ -115,7 +118,9 @@ void ExplicitSolver<D>::solve_grid(double dt) {
   auto& g = m_.grid;
   const double alpha = m_.config.solver.damping;
   const double floor = m_.node_mass_floor;
-  for (std::size_t k = 0; k < g.size(); ++k) {
+  const auto n = static_cast<std::int64_t>(g.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t k = 0; k < n; ++k) {
     Vec<D> a = Vec<D>::Zero();
     if (g.m_g[k] > floor) {
       for (int d = 0; d < D; ++d) {
@@ -139,8 +144,8 @@ void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
   auto& p = m_.particles;
   const double beta = m_.config.solver.pic_fraction;
   if (remap) std::fill(g.p_g.begin(), g.p_g.end(), Vec<D>::Zero());
-  Stencil<D, Kernel> st;
-  for (std::size_t i = 0; i < p.size(); ++i) {
+  const auto particle = [&](std::size_t i) {
+    Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
     Vec<D> a = Vec<D>::Zero(), vL = Vec<D>::Zero();
     for (int n = 0; n < st.N; ++n) {
@@ -156,6 +161,13 @@ void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
       for (int n = 0; n < st.N; ++n) g.p_g[st.node[n]] += st.S[n] * mv;
     }
     if (move) move_particle(i, dt, vL);
+  };
+  if (remap) {
+    schedule_.scatter(particle);  // the remap writes nodes
+  } else {
+    const auto np = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < np; ++i) particle(static_cast<std::size_t>(i));
   }
 }
 
@@ -176,9 +188,12 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
   for (std::size_t mat = 0; mat < materials.size(); ++mat) {
     std::visit(
         [&](const auto& model) {
-          Stencil<D, Kernel> st;
-          for (std::size_t i = 0; i < p.size(); ++i) {
+          const auto np = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static)
+          for (std::int64_t ii = 0; ii < np; ++ii) {
+            const auto i = static_cast<std::size_t>(ii);
             if (p.material_p[i] != static_cast<std::int32_t>(mat)) continue;
+            Stencil<D, Kernel> st;
             st.compute(g, p.x_p[i], p.l_p[i]);
             Mat<D> L = Mat<D>::Zero();
             Vec<D> vL = Vec<D>::Zero();
@@ -202,7 +217,7 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
             }
             p.eps_p[i] += d_eps;
             const double J = 1.0 + trace<D>(d_eps);
-            if (!(J > 0.0) && inverted_ < 0) inverted_ = static_cast<std::int64_t>(i);
+            if (!(J > 0.0)) note_fault(inverted_, i);
             p.V_p[i] *= J;
             if (domain_update) {
               if (defer_domain) deferred_eps_[i] = d_eps;
@@ -236,14 +251,25 @@ void ExplicitSolver<D>::move_particle(std::size_t i, double dt, Vec<D> vL) {
   const Vec<D> hi = m_.grid.upper();
   bool inside = true;
   for (int d = 0; d < D; ++d) inside = inside && x[d] >= m_.grid.origin[d] && x[d] <= hi[d];
-  if (!inside && escaped_ < 0) escaped_ = static_cast<std::int64_t>(i);
+  if (!inside) note_fault(escaped_, i);
 }
 
 template <int D>
 void ExplicitSolver<D>::apply_deferred_domain_update() {
   if (m_.config.solver.shape != ShapeKind::Gimp) return;
   auto& p = m_.particles;
-  for (std::size_t i = 0; i < p.size(); ++i) update_particle_domain<D>(p.l_p[i], deferred_eps_[i], m_.grid.h);
+  const auto np = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < np; ++i) update_particle_domain<D>(p.l_p[i], deferred_eps_[i], m_.grid.h);
+}
+
+// Several threads may find a fault in one step; the lowest particle index is reported, so the
+// message does not depend on the number of threads.
+template <int D>
+void ExplicitSolver<D>::note_fault(std::int64_t& slot, std::size_t i) {
+  const auto idx = static_cast<std::int64_t>(i);
+#pragma omp critical(tsuchi_fault)
+  if (slot < 0 || idx < slot) slot = idx;
 }
 
 template <int D>

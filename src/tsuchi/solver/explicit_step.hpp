@@ -7,6 +7,7 @@
 // Every stage evaluates S and G at the positions of the start of the step: particles move only in
 // the last stage.
 #include "tsuchi/model/model.hpp"
+#include "tsuchi/solver/block_schedule.hpp"
 
 #include <cstdint>
 
@@ -36,6 +37,7 @@ class ExplicitSolver {
   void move_particle(std::size_t i, double dt, Vec<D> vL);
   void apply_deferred_domain_update();
   void report_escape() const;
+  static void note_fault(std::int64_t& slot, std::size_t i);
 
   Model<D>& m_;
   double time_ = 0.0;
@@ -43,6 +45,7 @@ class ExplicitSolver {
   std::int64_t escaped_ = -1;   // first particle found outside the grid in this step
   std::int64_t inverted_ = -1;  // first particle whose volume went to zero or below
   std::vector<Voigt<D>> deferred_eps_;  // USF: this step's strain increments, for the domain update
+  BlockSchedule<D> schedule_;           // colour-by-colour scatter order, rebuilt every step
 };
 
 extern template class ExplicitSolver<2>;

@@ -1,0 +1,51 @@
+#include "tsuchi/solver/block_schedule.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tsuchi {
+
+template <int D>
+void BlockSchedule<D>::build(const Grid<D>& grid, const std::vector<Vec<D>>& x) {
+  std::int64_t n_blocks = 1;
+  for (int d = 0; d < D; ++d) {
+    const int cells = grid.n_nodes[d] - 1;
+    blocks_[d] = (cells + B - 1) / B;
+    n_blocks *= blocks_[d];
+  }
+  const auto n = static_cast<std::int64_t>(x.size());
+  block_of_.resize(x.size());
+  start_.assign(static_cast<std::size_t>(n_blocks) + 1, 0);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    std::int64_t b = 0;
+    for (int d = D - 1; d >= 0; --d) {
+      // A particle outside the grid (about to be reported) is filed under the nearest block.
+      const double s = std::floor((x[i][d] - grid.origin[d]) / grid.h);
+      const int cell = static_cast<int>(std::clamp(s, 0.0, static_cast<double>(grid.n_nodes[d] - 2)));
+      b = b * blocks_[d] + cell / B;
+    }
+    block_of_[i] = static_cast<std::int32_t>(b);
+  }
+  for (std::int64_t i = 0; i < n; ++i) ++start_[block_of_[i] + 1];
+  for (std::int64_t b = 0; b < n_blocks; ++b) start_[b + 1] += start_[b];
+  order_.resize(x.size());
+  std::vector<std::int64_t> fill(start_.begin(), start_.end() - 1);
+  for (std::int64_t i = 0; i < n; ++i) order_[fill[block_of_[i]]++] = static_cast<std::int32_t>(i);
+  for (auto& c : colour_blocks_) c.clear();
+  for (std::int64_t b = 0; b < n_blocks; ++b) {
+    if (start_[b + 1] == start_[b]) continue;
+    int colour = 0;
+    std::int64_t rest = b;
+    for (int d = 0; d < D; ++d) {
+      colour |= static_cast<int>((rest % blocks_[d]) & 1) << d;
+      rest /= blocks_[d];
+    }
+    colour_blocks_[colour].push_back(static_cast<std::int32_t>(b));
+  }
+}
+
+template class BlockSchedule<2>;
+template class BlockSchedule<3>;
+
+}  // namespace tsuchi

@@ -24,11 +24,24 @@ struct PrincipalFrame<2> {
   double c = 1.0, s = 0.0;     // in-plane direction (cos, sin) of the minor in-plane value
 
   explicit PrincipalFrame(const Voigt<2>& t) {
+    const double half_diff = 0.5 * (t[0] - t[1]);
+    const double r = std::hypot(half_diff, t[3]);
+    // Direction of the minor in-plane value from the half-angle formulas (no trigonometric call):
+    // it is the major direction (cos 2a = half_diff / r, sin 2a = t_xy / r) turned by 90 degrees.
+    double cm = 1.0, sm = 0.0;  // major direction; any direction when the plane part is isotropic
+    if (r > 0.0) {
+      const double c2 = half_diff / r, s2 = t[3] / r;
+      if (c2 >= 0.0) {
+        cm = std::sqrt(0.5 * (1.0 + c2));
+        sm = s2 / (2.0 * cm);
+      } else {
+        sm = std::copysign(std::sqrt(0.5 * (1.0 - c2)), s2);
+        cm = s2 / (2.0 * sm);
+      }
+    }
+    c = -sm;
+    s = cm;
     const double mean = 0.5 * (t[0] + t[1]);
-    const double r = std::hypot(0.5 * (t[0] - t[1]), t[3]);
-    const double theta_major = 0.5 * std::atan2(2.0 * t[3], t[0] - t[1]);
-    c = -std::sin(theta_major);
-    s = std::cos(theta_major);
     const double v[3] = {mean - r, mean + r, t[2]};
     slot = {0, 1, 2};
     // Three-element sort of the slots by value.

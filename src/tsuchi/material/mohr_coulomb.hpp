@@ -8,6 +8,7 @@
 //   which one      h   = s3 - sigma_t + a_P (s1 - sigma_P): shear if h <= 0
 //
 // The return keeps the principal directions and corrects the principal values only.
+#include "tsuchi/core/principal.hpp"
 #include "tsuchi/core/principal_frame.hpp"
 #include "tsuchi/material/linear_elastic.hpp"
 #include "tsuchi/material/mohr_coulomb_return.hpp"
@@ -53,7 +54,7 @@ struct MohrCoulomb {
     s.sqrt_N_phi = std::sqrt(s.N_phi);
     s.N_psi = (1.0 + ss) / (1.0 - ss);
     // A scaled phi or c must not leave sigma_t above the apex c / tan(phi).
-    s.sigma_t = std::min(tension, s.c / std::tan(phi * phi_scale));
+    s.sigma_t = std::min(tension, s.c * std::sqrt(1.0 - sp * sp) / sp);
     s.a_P = std::sqrt(1.0 + s.N_phi * s.N_phi) + s.N_phi;
     s.sigma_P = s.sigma_t * s.N_phi - 2.0 * s.c * s.sqrt_N_phi;
     return s;
@@ -66,6 +67,10 @@ struct MohrCoulomb {
   // Plastic correction of a trial stress in place; returns the mode of this step.
   template <int D>
   YieldMode correct(Voigt<D>& sigma, const Strength& s, PlasticPoint& state) const {
+    if constexpr (D == 2) {  // the frame is only for points that yield; the values are cheaper
+      const Eigen::Vector3d v = principal_values(sigma);
+      if (shear_yield(v, s) >= 0.0 && s.sigma_t - v[2] >= 0.0) return YieldMode::Elastic;
+    }
     const PrincipalFrame<D> frame(sigma);
     const Eigen::Vector3d& p = frame.values;
     if (shear_yield(p, s) >= 0.0 && s.sigma_t - p[2] >= 0.0) return YieldMode::Elastic;

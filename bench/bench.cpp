@@ -1,15 +1,24 @@
-// tsuchi-bench: particle-steps per second of the explicit step on elastic blocks with GIMP.
-// Usage: tsuchi-bench [--quick]   (quick: smaller blocks, for a smoke run)
-// A free elastic block under gravity on a fixed floor, MUSL, GIMP with domain update, no output.
+// tsuchi-bench: particle-steps per second, wall time per step and memory per particle of the
+// explicit step, on 1 thread and on every core:
+//   - the paper's triaxial test 3 with the cap fixed (5500 particles, Mohr-Coulomb), timed after
+//     loading to 2 % axial strain so that particles are yielding;
+//   - an elastic block under gravity on a fixed floor (GIMP, MUSL) at 1e4, 1e5 and 1e6 particles
+//     in 2D, and 1e6 in 3D: the cost per particle-step should not grow with the size.
+// Usage: tsuchi-bench [--quick]   (quick: small cases, a smoke run of a few seconds)
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/solver/explicit_step.hpp"
 #include "tsuchi/solver/time_step.hpp"
 
 #include <fmt/format.h>
 
+#include <omp.h>
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <string>
+#include <vector>
 
 namespace {
 
@@ -52,32 +61,77 @@ frames = false
                      dim, three, ext, h, dim == 3 ? ", 1.0" : "");
 }
 
+struct Figures {
+  double rate = 0.0, wall_per_step = 0.0, bytes_per_particle = 0.0;
+};
+
+// Times `steps` steps after one warm-up step on `threads` threads.
 template <int D>
-void measure(int cells_per_side, int steps) {
-  const Config c = read_config_string(block_input(D, cells_per_side), "bench");
-  Model<D> m = build_model<D>(c);
+Figures time_steps(Model<D>& m, int steps, int threads) {
+  omp_set_num_threads(threads);
   ExplicitSolver<D> solver(m);
-  const double dt = 0.5 * critical_time_step<D>(m.particles, c.materials, m.grid.h);
+  const double dt = 0.5 * critical_time_step<D>(m.particles, m.config.materials, m.grid.h);
   solver.step(dt);  // warm-up: first touch of every array
   const auto t0 = std::chrono::steady_clock::now();
   for (int s = 0; s < steps; ++s) solver.step(dt);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double n = static_cast<double>(m.particles.size());
-  fmt::print("{}D elastic block, GIMP, MUSL: {:>9} particles, {:>4} steps, {:8.3f} s, {:.3e} particle-steps/s, "
-             "{:.1f} bytes/particle\n",
-             D, m.particles.size(), steps, wall, n * steps / wall, static_cast<double>(m.bytes()) / n);
+  return {n * steps / wall, wall / steps, static_cast<double>(m.bytes()) / n};
+}
+
+double peak_rss_mb() {
+  rusage r{};
+  getrusage(RUSAGE_SELF, &r);
+  return static_cast<double>(r.ru_maxrss) / 1024.0;
+}
+
+void report(const std::string& name, std::size_t particles, int threads, const Figures& f) {
+  fmt::print("{:<34} {:>9} particles  {} thread{}  {:.3e} particle-steps/s  {:8.3f} ms/step  {:5.0f} bytes/particle"
+             "  peak RSS {:.0f} MB\n",
+             name, particles, threads, threads > 1 ? "s" : " ", f.rate, 1e3 * f.wall_per_step, f.bytes_per_particle,
+             peak_rss_mb());
+}
+
+template <int D>
+void block(int cells_per_side, int steps, const std::vector<int>& threads) {
+  for (int t : threads) {
+    Model<D> m = build_model<D>(read_config_string(block_input(D, cells_per_side), "bench"));
+    report(fmt::format("{}D elastic block, GIMP, MUSL", D), m.particles.size(), t, time_steps<D>(m, steps, t));
+  }
+}
+
+// The paper's triaxial test 3, cap fixed: 5500 particles, Mohr-Coulomb, GIMP, MUSL, damping.
+void triaxial(int steps, const std::vector<int>& threads) {
+  const std::string file = std::string(TSUCHI_SOURCE_DIR) + "/examples/triaxial/test3_fixed.toml";
+  for (int t : threads) {
+    Model<2> m = build_model<2>(read_config_file(file, {"output.frames=false"}));
+    // Load it to 2 % axial strain first, so that the timed steps include plastic returns.
+    omp_set_num_threads(t);
+    ExplicitSolver<2> pre(m);
+    const double dt = 0.5 * critical_time_step<2>(m.particles, m.config.materials, m.grid.h);
+    while (pre.time() < 0.1) pre.step(dt);
+    report("triaxial test 3, cap fixed (MC)", m.particles.size(), t, time_steps<2>(m, steps, t));
+  }
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  const int cores = omp_get_num_procs();
+  std::vector<int> threads{1};
+  if (cores > 1) threads.push_back(cores);
+  fmt::print("tsuchi-bench: {} cores\n", cores);
   if (quick) {
-    measure<2>(50, 20);   // 10,000 particles
-    measure<3>(10, 10);   // 8,000 particles
-  } else {
-    measure<2>(250, 50);  // 250,000 particles
-    measure<3>(40, 20);   // 512,000 particles
+    triaxial(100, threads);
+    block<2>(50, 20, threads);   // 10,000 particles
+    block<3>(10, 10, threads);   // 8,000 particles
+    return 0;
   }
+  triaxial(2000, threads);
+  block<2>(50, 400, threads);    // 10,000 particles
+  block<2>(158, 40, threads);    // 99,856 particles
+  block<2>(500, 10, threads);    // 1,000,000 particles
+  block<3>(50, 4, threads);      // 1,000,000 particles
   return 0;
 }

@@ -50,6 +50,19 @@ struct Particles {
     id_p.resize(n, 0);
   }
 
+  // Reorders every array: particle k of the result is particle order[k] of this one. Ids move
+  // with their particles, so outputs keyed by id are unchanged.
+  template <class Index>
+  void permute(const std::vector<Index>& order) {
+    const auto apply = [&](auto& a) {
+      auto copy = a;
+      for (std::size_t k = 0; k < order.size(); ++k) a[k] = copy[static_cast<std::size_t>(order[k])];
+    };
+    apply(x_p), apply(u_p), apply(v_p), apply(l_p), apply(m_p), apply(V_p), apply(sigma_p), apply(sigma0_p);
+    apply(eps_p), apply(yield_p), apply(plastic_shear_p), apply(plastic_volume_p), apply(c_scale_p);
+    apply(phi_scale_p), apply(material_p), apply(body_p), apply(id_p);
+  }
+
   static constexpr std::size_t bytes_per_particle() {
     return 4 * sizeof(Vec<D>) + 6 * sizeof(double) + 3 * sizeof(Voigt<D>) +
            3 * sizeof(std::int32_t) + sizeof(std::uint8_t);

@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <functional>
 #include <optional>
@@ -228,13 +229,18 @@ class Section {
     return best.empty() ? std::string{} : fmt::format(" (did you mean '{}'?)", best);
   }
 
+  // Case does not count: "ZZ" is a typo of "zz", not of "xx".
+  static bool same_letter(char x, char y) {
+    return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
+  }
+
   static std::size_t edit_distance(std::string_view a, std::string_view b) {
     std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
     for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
     for (std::size_t i = 1; i <= a.size(); ++i) {
       cur[0] = i;
       for (std::size_t j = 1; j <= b.size(); ++j)
-        cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+        cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + !same_letter(a[i - 1], b[j - 1])});
       std::swap(prev, cur);
     }
     return prev[b.size()];

@@ -30,8 +30,8 @@ void BlockSchedule<D>::build(const Grid<D>& grid, const std::vector<Vec<D>>& x) 
   for (std::int64_t i = 0; i < n; ++i) ++start_[block_of_[i] + 1];
   for (std::int64_t b = 0; b < n_blocks; ++b) start_[b + 1] += start_[b];
   order_.resize(x.size());
-  std::vector<std::int64_t> fill(start_.begin(), start_.end() - 1);
-  for (std::int64_t i = 0; i < n; ++i) order_[fill[block_of_[i]]++] = static_cast<std::int32_t>(i);
+  fill_.assign(start_.begin(), start_.end() - 1);  // reuses its storage: no allocation per step
+  for (std::int64_t i = 0; i < n; ++i) order_[fill_[block_of_[i]]++] = static_cast<std::int32_t>(i);
   for (auto& c : colour_blocks_) c.clear();
   for (std::int64_t b = 0; b < n_blocks; ++b) {
     if (start_[b + 1] == start_[b]) continue;

@@ -49,6 +49,7 @@ class BlockSchedule {
   std::vector<std::int32_t> block_of_;          // per particle
   std::vector<std::int64_t> start_;             // per block: first entry in order_, plus a sentinel
   std::vector<std::int32_t> order_;             // particle indices grouped by block, increasing within
+  std::vector<std::int64_t> fill_;              // counting-sort cursors
   std::array<std::vector<std::int32_t>, kColours> colour_blocks_;  // non-empty blocks of each colour
 };
 

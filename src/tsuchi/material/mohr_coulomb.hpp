@@ -13,6 +13,7 @@
 #include "tsuchi/material/linear_elastic.hpp"
 #include "tsuchi/material/mohr_coulomb_return.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -64,6 +65,16 @@ struct MohrCoulomb {
     return p[0] - p[2] * s.N_phi + 2.0 * s.c * s.sqrt_N_phi;
   }
 
+  // Which surface a stress with principal values p (ascending) lies beyond by more than 1e-9 of
+  // its scale, if any: the check that a starting stress is admissible.
+  enum class Beyond { Nothing, Shear, Tension };
+  static Beyond beyond(const Eigen::Vector3d& p, const Strength& s) {
+    const double tol = 1e-9 * (std::max(p.cwiseAbs().maxCoeff(), s.c) + 1e-300);
+    if (shear_yield(p, s) < -tol) return Beyond::Shear;
+    if (p[2] - s.sigma_t > tol) return Beyond::Tension;
+    return Beyond::Nothing;
+  }
+
   // Plastic correction of a trial stress in place; returns the mode of this step.
   template <int D>
   YieldMode correct(Voigt<D>& sigma, const Strength& s, PlasticPoint& state) const {
@@ -73,7 +84,8 @@ struct MohrCoulomb {
     }
     const PrincipalFrame<D> frame(sigma);
     const Eigen::Vector3d& p = frame.values;
-    if (shear_yield(p, s) >= 0.0 && s.sigma_t - p[2] >= 0.0) return YieldMode::Elastic;
+    if constexpr (D == 3)
+      if (shear_yield(p, s) >= 0.0 && s.sigma_t - p[2] >= 0.0) return YieldMode::Elastic;
     const double a1 = elastic.K + 4.0 * elastic.G / 3.0, a2 = elastic.K - 2.0 * elastic.G / 3.0;
     const bool shear = p[2] - s.sigma_t + s.a_P * (p[0] - s.sigma_P) <= 0.0;  // FLAC's h-function
     if (!shear && tension_rule == TensionRule::Paper) {

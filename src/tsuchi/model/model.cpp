@@ -93,15 +93,14 @@ void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m
   for (std::size_t q = start; q < p.size(); ++q) {
     const auto s = mc->strength(p.c_scale_p[q], p.phi_scale_p[q]);
     const Eigen::Vector3d v = PrincipalFrame<D>(p.sigma_p[q]).values;
-    const double scale = std::max(v.cwiseAbs().maxCoeff(), s.c) + 1e-300;
-    const double f_s = MohrCoulomb::shear_yield(v, s), f_t = s.sigma_t - v[2];
-    if (f_s < -1e-9 * scale || f_t < -1e-9 * scale) {
+    const auto beyond = MohrCoulomb::beyond(v, s);
+    if (beyond != MohrCoulomb::Beyond::Nothing) {
       std::string at;
       for (int d = 0; d < D; ++d) at += fmt::format("{}{:.6g}", d ? ", " : "", p.x_p[q][d]);
       throw InputError(fmt::format(
           "{}: key 'bodies.{}.initial_stress': the initial stress of body \"{}\" lies outside the {} "
           "surface of material \"{}\" at ({}): principal stresses {:.6g}, {:.6g}, {:.6g} Pa{}",
-          c.source, body, b.name, f_s < -1e-9 * scale ? "Mohr-Coulomb shear" : "tension cut-off", mat.name, at,
+          c.source, body, b.name, beyond == MohrCoulomb::Beyond::Shear ? "Mohr-Coulomb shear" : "tension cut-off", mat.name, at,
           v[0], v[1], v[2],
           b.initial_stress.kind == InitialStressConfig::Kind::K0
               ? "; with c = 0 a K0 state needs 1/N_phi <= k0 <= N_phi"

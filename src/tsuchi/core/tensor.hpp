@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include <array>
+#include <cmath>
 
 namespace tsuchi {
 
@@ -61,6 +62,22 @@ double contract(const Voigt<D>& s, const Voigt<D>& e) {
   double r = s[0] * e[0] + s[1] * e[1] + s[2] * e[2];
   for (int k = 3; k < n_voigt<D>; ++k) r += 2.0 * s[k] * e[k];
   return r;
+}
+
+// Deviatoric part s - tr(s)/3 I (the out-of-plane zz included in 2D).
+template <int D>
+Voigt<D> deviator(const Voigt<D>& s) {
+  Voigt<D> dev = s;
+  const double mean = trace<D>(s) / 3.0;
+  for (int i = 0; i < 3; ++i) dev[i] -= mean;
+  return dev;
+}
+
+// Von Mises equivalent stress q = sqrt(3 J2).
+template <int D>
+double von_mises(const Voigt<D>& s) {
+  const Voigt<D> dev = deviator<D>(s);
+  return std::sqrt(1.5 * contract<D>(dev, dev));
 }
 
 // Symmetric part of a velocity gradient (or any D x D matrix) as a Voigt vector; zz stays 0.

@@ -27,12 +27,7 @@ struct ElementRow {
   double p() const { return 0.0 - trace<3>(stress) / 3.0; }
 
   // Von Mises equivalent stress q = sqrt(3 J2); equals sigma1 - sigma3 in a triaxial test.
-  double q() const {
-    Voigt<3> s = stress;
-    const double mean = trace<3>(stress) / 3.0;
-    for (int i = 0; i < 3; ++i) s[i] -= mean;
-    return std::sqrt(1.5 * contract<3>(s, s));
-  }
+  double q() const { return von_mises<3>(stress); }
 
   // Largest minus smallest principal stress: the deviator at failure of any Mohr-Coulomb test.
   // (The iterative eigen-solver of PrincipalFrame: the direct one loses ~1e-9 relative.)

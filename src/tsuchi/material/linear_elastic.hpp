@@ -34,8 +34,7 @@ struct LinearElastic {
   template <int D>
   double energy_density(const Voigt<D>& s) const {
     const double p = trace<D>(s) / 3.0;
-    Voigt<D> dev = s;
-    for (int i = 0; i < 3; ++i) dev[i] -= p;
+    const Voigt<D> dev = deviator<D>(s);
     return p * p / (2.0 * K) + contract<D>(dev, dev) / (4.0 * G);
   }
 };

@@ -86,14 +86,7 @@ double Recorder<D>::particle_value(const Particles<D>& p, std::size_t i) const {
     case Stress: return p.sigma_p[i][component_];
     case Strain: return p.eps_p[i][component_];
     case MeanStress: return trace<D>(p.sigma_p[i]) / 3.0;
-    case DeviatorStress: {
-      // q = sqrt(3 J2)
-      const Voigt<D>& s = p.sigma_p[i];
-      Voigt<D> dev = s;
-      const double mean = trace<D>(s) / 3.0;
-      for (int k = 0; k < 3; ++k) dev[k] -= mean;
-      return std::sqrt(1.5 * contract<D>(dev, dev));
-    }
+    case DeviatorStress: return von_mises<D>(p.sigma_p[i]);
     case MaxShearStrain: return max_shear_strain<D>(p.eps_p[i]);
     case PlasticShear: return p.plastic_shear_p[i];
     case PlasticVolume: return p.plastic_volume_p[i];

@@ -185,8 +185,7 @@ void read_body(Section& s, Config& c, std::size_t index) {
   auto it = std::find_if(c.materials.begin(), c.materials.end(),
                          [&](const Material& m) { return m.name == b.material; });
   if (it == c.materials.end()) {
-    std::string names;
-    for (const auto& m : c.materials) names += (names.empty() ? "\"" : ", \"") + m.name + "\"";
+    const std::string names = quoted_list(c.materials, &Material::name);
     s.fail("material", fmt::format("expected one of the materials defined ({}), got \"{}\"",
                                    names.empty() ? "none defined" : names, b.material));
   }
@@ -331,9 +330,8 @@ void read_recorder(Section& s, Config& c) {
     const std::string body = s.string("body", "the name of a body");
     auto it = std::find_if(c.bodies.begin(), c.bodies.end(), [&](const BodyConfig& b) { return b.name == body; });
     if (it == c.bodies.end()) {
-      std::string names;
-      for (const auto& b : c.bodies) names += (names.empty() ? "\"" : ", \"") + b.name + "\"";
-      s.fail("body", fmt::format("expected one of the bodies defined ({}), got \"{}\"", names, body));
+      s.fail("body", fmt::format("expected one of the bodies defined ({}), got \"{}\"",
+                                 quoted_list(c.bodies, &BodyConfig::name), body));
     }
     r.body = static_cast<int>(it - c.bodies.begin());
   } else {
@@ -345,9 +343,7 @@ void read_recorder(Section& s, Config& c) {
   else s.get("max");
   r.quantity = s.string("quantity", "a particle quantity");
   if (!is_recorder_quantity(r.quantity, dim)) {
-    std::string list;
-    for (const auto& q : recorder_quantities(dim)) list += (list.empty() ? "\"" : ", \"") + q + "\"";
-    s.fail("quantity", fmt::format("expected one of {}, got \"{}\"", list, r.quantity));
+    s.fail("quantity", fmt::format("expected one of {}, got \"{}\"", quoted_list(recorder_quantities(dim)), r.quantity));
   }
   r.reduction = static_cast<RecorderConfig::Reduction>(s.choice("reduction", {"mean", "sum", "min", "max"}, 0));
   r.scale = s.number("scale", "a finite factor", any, 1.0);

@@ -242,9 +242,8 @@ void check_inside_yield_surface(const Material& m, const Voigt<3>& sigma, Sectio
 }
 
 const Material& select_material(Section& test, const std::vector<Material>& materials) {
-  std::string names;
-  for (const auto& m : materials) names += (names.empty() ? "\"" : ", \"") + m.name + "\"";
-  const std::string expected = fmt::format("the name of the material to test, one of {}", names);
+  const std::string expected =
+      fmt::format("the name of the material to test, one of {}", quoted_list(materials, &Material::name));
   if (!test.has("material")) {
     if (materials.size() == 1) {
       test.get("material");
@@ -283,10 +282,8 @@ ElementInput read_element_string(const std::string& text, const std::string& fil
   if (!test_t) top.need("test", "a [test] table with the loading path");
   Section test(*test_t, "test", file);
   in.material = select_material(test, materials);
-  std::string types;
-  for (const auto& t : kTypes) types += (types.empty() ? "\"" : ", \"") + t + "\"";
   const int type = test.choice("type", kTypes, -1);
-  if (type < 0) test.need("type", fmt::format("the kind of test, one of {}", types));
+  if (type < 0) test.need("type", fmt::format("the kind of test, one of {}", quoted_list(kTypes)));
   std::string_view stress_key;  // the key an inadmissible initial stress is blamed on
   switch (type) {
     case 0:

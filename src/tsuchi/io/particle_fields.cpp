@@ -1,5 +1,7 @@
 #include "tsuchi/io/particle_fields.hpp"
 
+#include "tsuchi/io/toml_section.hpp"
+
 #include <algorithm>
 
 namespace tsuchi {
@@ -17,10 +19,6 @@ bool is_particle_field(const std::string& name) {
   return std::find(n.begin(), n.end(), name) != n.end();
 }
 
-std::string particle_field_list() {
-  std::string r;
-  for (const auto& n : all_particle_fields()) r += (r.empty() ? "\"" : ", \"") + n + "\"";
-  return r;
-}
+std::string particle_field_list() { return io::quoted_list(all_particle_fields()); }
 
 }  // namespace tsuchi

@@ -21,6 +21,14 @@ namespace tsuchi::io {
 
 inline constexpr const char* axis_name[3] = {"x", "y", "z"};
 
+// "a", "b", "c": how messages list the names a key accepts; `name` picks each item's name.
+template <class Range, class Name = std::identity>
+std::string quoted_list(const Range& items, Name name = {}) {
+  std::string r;
+  for (const auto& item : items) r += fmt::format("{}\"{}\"", r.empty() ? "" : ", ", std::invoke(name, item));
+  return r;
+}
+
 inline std::string describe(const toml::node& n) {
   if (auto v = n.as_integer()) return fmt::format("{}", v->get());
   if (auto v = n.as_floating_point()) {
@@ -142,8 +150,6 @@ class Section {
   // One of `choices` (compared case-insensitively); returns its index.
   int choice(std::string_view key, const std::vector<std::string>& choices, int fallback) {
     const toml::node* n = get(key);
-    std::string list;
-    for (const auto& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
     if (!n) return fallback;
     auto s = n->as_string();
     if (s) {
@@ -152,7 +158,7 @@ class Section {
       for (std::size_t i = 0; i < choices.size(); ++i)
         if (v == choices[i]) return static_cast<int>(i);
     }
-    fail(key, fmt::format("expected one of {}, got {}", list, describe(*n)));
+    fail(key, fmt::format("expected one of {}, got {}", quoted_list(choices), describe(*n)));
   }
 
   // An array of exactly `dim` numbers, each passing `ok`.

@@ -3,6 +3,8 @@
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/solver/simulation.hpp"
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -11,6 +13,8 @@
 #include <vector>
 
 namespace {
+
+using namespace tsuchi::test;
 
 using namespace tsuchi;
 
@@ -22,9 +26,7 @@ Model<2> run(int threads, const std::string& scheme) {
              "recorders.0.stop_above=0.005", "output.frames=false", "solver.scheme=\"" + scheme + "\""}));
   const int before = omp_get_max_threads();
   omp_set_num_threads(threads);
-  RunOptions o;
-  o.write_output = false;
-  run_simulation<2>(m, o);
+  run_simulation<2>(m, no_output());
   omp_set_num_threads(before);
   return m;
 }

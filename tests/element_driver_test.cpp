@@ -5,6 +5,8 @@
 #include "tsuchi/element/element_driver.hpp"
 #include "tsuchi/io/element_reader.hpp"
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -22,6 +24,8 @@
 #include <vector>
 
 namespace {
+
+using namespace tsuchi::test;
 
 namespace fs = std::filesystem;
 using namespace tsuchi;
@@ -49,13 +53,6 @@ density = 2000.0
 youngs_modulus = 1.0e7
 poisson_ratio = 0.3
 )";
-
-// Mohr-Coulomb deviator at failure with sigma3 = -p: p (N_phi - 1) + 2 c sqrt(N_phi).
-double mc_peak(double p) {
-  const double s = std::sin(30.5 * std::numbers::pi / 180.0);
-  const double N = (1.0 + s) / (1.0 - s);
-  return p * (N - 1.0) + 2.0 * 8.5 * kPa * std::sqrt(N);
-}
 
 io::ElementInput read(const std::string& text) { return io::read_element_string(text, "element.toml"); }
 
@@ -86,7 +83,7 @@ TEST(ElementDriver, TriaxialCompressionPeakIsMohrCoulomb) {
   for (double p : {10 * kPa, 50 * kPa, 100 * kPa}) {
     const auto rows = drive(read(compression_test("triaxial_compression", p)));
     ASSERT_EQ(rows.size(), 1501u);
-    const double peak = peak_deviator(rows), expected = mc_peak(p);
+    const double peak = peak_deviator(rows), expected = mohr_coulomb_peak(p);
     std::printf("triaxial p = %5.0f kPa: peak deviator %.6f kPa, closed form %.6f kPa, rel. error %.2e\n", p / kPa,
                 peak / kPa, expected / kPa, std::abs(peak / expected - 1.0));
     EXPECT_NEAR(peak / expected, 1.0, 0.005) << "p = " << p;
@@ -106,7 +103,7 @@ TEST(ElementDriver, TriaxialCompressionPeakIsMohrCoulomb) {
 TEST(ElementDriver, PlaneStrainCompressionPeakIsMohrCoulomb) {
   for (double p : {10 * kPa, 50 * kPa, 100 * kPa}) {
     const auto rows = drive(read(compression_test("plane_strain_compression", p)));
-    const double peak = peak_deviator(rows), expected = mc_peak(p);
+    const double peak = peak_deviator(rows), expected = mohr_coulomb_peak(p);
     std::printf("plane strain p = %5.0f kPa: peak deviator %.6f kPa, closed form %.6f kPa, rel. error %.2e\n",
                 p / kPa, peak / kPa, expected / kPa, std::abs(peak / expected - 1.0));
     EXPECT_NEAR(peak / expected, 1.0, 0.005) << "p = " << p;
@@ -209,7 +206,7 @@ strain = { xy = 0.0, yz = 0.0, xz = 0.0 }
   }
   ASSERT_EQ(rows.size(), 79u);  // initial state and increments 1 to 78
   EXPECT_NEAR(rows.back().stress[1], -334 * kPa, 1e-6 * kPa);
-  EXPECT_LT(peak_deviator(rows), mc_peak(100 * kPa));
+  EXPECT_LT(peak_deviator(rows), mohr_coulomb_peak(100 * kPa));
 }
 
 // ---- input errors ---------------------------------------------------------------------------
@@ -224,10 +221,6 @@ std::string input_error(const std::string& text) {
   return {};
 }
 
-void expect_message(const std::string& msg, const std::vector<std::string>& parts) {
-  for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "'" << p << "' missing from: " << msg;
-}
-
 const std::string kGeneral = kSoil + R"(
 [test]
 type = "general"
@@ -238,15 +231,6 @@ increments = 100
 strain = { yy = -0.1, xy = 0.0, yz = 0.0, xz = 0.0 }
 stress = { xx = "hold", zz = "hold" }
 )";
-
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  if (pos == std::string::npos) {
-    ADD_FAILURE() << "'" << from << "' not in the input";
-    return text;
-  }
-  return text.replace(pos, from.size(), to);
-}
 
 TEST(ElementInput, RefusesBadPaths) {
   ASSERT_NO_THROW(read(kGeneral));
@@ -294,49 +278,6 @@ TEST(ElementInput, RefusesBadPresets) {
 
 // ---- the program ----------------------------------------------------------------------------
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device rd;
-    path = fs::temp_directory_path() / ("tsuchi_element_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-};
-
-void write_file(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-  ASSERT_TRUE(out.good()) << "cannot write " << p;
-}
-
-struct Result {
-  int status = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Result run_program(const std::string& args) {
-  Result r;
-  const std::string cmd = std::string("'") + TSUCHI_BINARY + "' " + args + " 2>&1";
-  std::FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) {
-    ADD_FAILURE() << "popen failed: " << cmd;
-    return r;
-  }
-  char buf[4096];
-  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) r.output.append(buf, n);
-  const int st = ::pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
-
-std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
-
 // The CSV split into its comment lines, header and data rows.
 struct Csv {
   std::vector<std::string> comments;
@@ -367,10 +308,10 @@ std::string expected_header() {
 }
 
 TEST(ElementProgram, ExampleWritesTheCsv) {
-  TempDir tmp;
+  TempDir tmp("tsuchi_element");
   const fs::path csv = tmp.path / "sub" / "triaxial.csv";
   const fs::path example = fs::path(TSUCHI_SOURCE_DIR) / "examples" / "element_tests" / "triaxial_compression.toml";
-  const Result r = run_program("element " + quoted(example) + " -o " + quoted(csv) + " --set test.confining_pressure=100e3");
+  const ProgramResult r = run_program("element " + quoted(example) + " -o " + quoted(csv) + " --set test.confining_pressure=100e3");
   ASSERT_EQ(r.status, exit_code::ok) << r.output;
   expect_message(r.output, {"material", "\"soil\"", "triaxial compression", "peak", "235.87 kPa", "1501 rows"});
   const Csv c = read_csv(csv);
@@ -381,14 +322,14 @@ TEST(ElementProgram, ExampleWritesTheCsv) {
   EXPECT_EQ(c.rows.back()[0], 1500.0);
   double peak = 0.0;  // column "deviator"
   for (const auto& row : c.rows) peak = std::max(peak, row[16]);
-  EXPECT_NEAR(peak / mc_peak(100 * kPa), 1.0, 0.005);
+  EXPECT_NEAR(peak / mohr_coulomb_peak(100 * kPa), 1.0, 0.005);
   expect_message(c.comments.empty() ? "" : c.comments[0], {"triaxial_compression.toml"});
   for (const auto& e : fs::directory_iterator(csv.parent_path()))
     EXPECT_EQ(e.path().filename(), "triaxial.csv") << "left behind: " << e.path();
 }
 
 TEST(ElementProgram, BadInputExitsWithCodeTwoAndWritesNothing) {
-  TempDir tmp;
+  TempDir tmp("tsuchi_element");
   struct Case {
     std::string from, to;
     std::vector<std::string> message;
@@ -401,7 +342,7 @@ TEST(ElementProgram, BadInputExitsWithCodeTwoAndWritesNothing) {
   for (std::size_t i = 0; i < cases.size(); ++i) {
     const fs::path file = tmp.path / fmt::format("bad{}.toml", i), csv = tmp.path / fmt::format("bad{}.csv", i);
     write_file(file, replace(kGeneral, cases[i].from, cases[i].to));
-    const Result r = run_program("element " + quoted(file) + " -o " + quoted(csv));
+    const ProgramResult r = run_program("element " + quoted(file) + " -o " + quoted(csv));
     EXPECT_EQ(r.status, exit_code::input) << r.output;
     auto parts = cases[i].message;
     parts.push_back(file.string() + ":");
@@ -412,7 +353,7 @@ TEST(ElementProgram, BadInputExitsWithCodeTwoAndWritesNothing) {
 }
 
 TEST(ElementProgram, RunErrorKeepsTheRowsComputed) {
-  TempDir tmp;
+  TempDir tmp("tsuchi_element");
   const fs::path file = tmp.path / "beyond.toml", csv = tmp.path / "beyond.csv";
   write_file(file, kSoil + R"(
 [test]
@@ -424,7 +365,7 @@ increments = 100
 stress = { xx = "hold", yy = -400e3, zz = "hold" }
 strain = { xy = 0.0, yz = 0.0, xz = 0.0 }
 )");
-  const Result r = run_program("element " + quoted(file) + " -o " + quoted(csv));
+  const ProgramResult r = run_program("element " + quoted(file) + " -o " + quoted(csv));
   EXPECT_EQ(r.status, exit_code::run) << r.output;
   expect_message(r.output, {"run stopped:", "increment 38 (segment 0, increment 38 of 100)", "drive sig_yy by strain", csv.string()});
   ASSERT_TRUE(fs::exists(csv));
@@ -438,13 +379,13 @@ strain = { xy = 0.0, yz = 0.0, xz = 0.0 }
 }
 
 TEST(ElementProgram, DefaultOutputIsTheInputNameInTheWorkingDirectory) {
-  TempDir tmp;
+  TempDir tmp("tsuchi_element");
   const fs::path file = tmp.path / "my_test.toml";
   write_file(file, kGeneral);
-  const Result same = run_program("element -q " + quoted(file) + " -o " + quoted(file));
+  const ProgramResult same = run_program("element -q " + quoted(file) + " -o " + quoted(file));
   EXPECT_EQ(same.status, exit_code::input) << same.output;
   expect_message(same.output, {"is the input file"});
-  const Result r = run_program("element -q " + quoted(file));
+  const ProgramResult r = run_program("element -q " + quoted(file));
   // Not next to the input: in the working directory of the program, which is the test's.
   const fs::path written = fs::current_path() / "my_test.csv";
   EXPECT_EQ(r.status, exit_code::ok) << r.output;

@@ -4,6 +4,8 @@
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/io/config_reader.hpp"
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -22,6 +24,8 @@
 #include <vector>
 
 namespace {
+
+using namespace tsuchi::test;
 
 namespace fs = std::filesystem;
 using tsuchi::InputError;
@@ -68,16 +72,6 @@ int line_of(const std::string& text, const std::string& needle) {
   return -1;
 }
 
-// `text` with the first occurrence of `from` replaced by `to` (which must exist).
-std::string replace(std::string text, const std::string& from, const std::string& to) {
-  const auto pos = text.find(from);
-  if (pos == std::string::npos) {
-    ADD_FAILURE() << "'" << from << "' not in the input";
-    return text;
-  }
-  return text.replace(pos, from.size(), to);
-}
-
 // The message of the InputError that reading `text` throws ("" and a test failure if none).
 std::string input_error(const std::string& text, const std::vector<std::string>& overrides = {}) {
   try {
@@ -93,11 +87,6 @@ std::string input_error(const std::string& text, const std::vector<std::string>&
 }
 
 std::string at_line(int line) { return "case.toml:" + std::to_string(line) + ":"; }
-
-// The message contains every one of `parts`.
-void expect_message(const std::string& msg, const std::vector<std::string>& parts) {
-  for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "'" << p << "' missing from: " << msg;
-}
 
 // ---- the valid file ------------------------------------------------------------------------
 
@@ -341,64 +330,14 @@ TEST(InputErrors, OverrideUnknownKey) {
 
 // ---- the program ---------------------------------------------------------------------------
 
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::random_device rd;
-    path = fs::temp_directory_path() /
-           ("tsuchi_input_errors_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
-    fs::create_directories(path);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-};
-
-void write_file(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-  ASSERT_TRUE(out.good()) << "cannot write " << p;
-}
-
-struct Result {
-  int status = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Result run_program(const std::string& args) {
-  Result r;
-  const std::string cmd = std::string("'") + TSUCHI_BINARY + "' " + args + " 2>&1";
-  std::FILE* p = ::popen(cmd.c_str(), "r");
-  if (!p) {
-    ADD_FAILURE() << "popen failed: " << cmd;
-    return r;
-  }
-  char buf[4096];
-  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) r.output.append(buf, n);
-  const int st = ::pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
-
-// p in single quotes for the shell (the temp paths hold no quote).
-std::string quoted(const fs::path& p) {
-  std::string r(1, '\'');
-  r += p.string();
-  r += '\'';
-  return r;
-}
-
 TEST(ProgramErrors, CheckAndRunRefuseBadInput) {
-  TempDir tmp;
+  TempDir tmp("tsuchi_input_errors");
   const fs::path file = tmp.path / "bad.toml";
   const fs::path outdir = tmp.path / "out_bad";
   write_file(file, replace(replace(kValid, "cell_size = 0.1", "cell_size = 0"), "directory = \"out\"",
                            "directory = \"" + outdir.string() + "\""));
   for (const char* cmd : {"check", "run"}) {
-    const Result r = run_program(std::string(cmd) + " " + quoted(file));
+    const ProgramResult r = run_program(std::string(cmd) + " " + quoted(file));
     EXPECT_EQ(r.status, tsuchi::exit_code::input) << cmd << ":\n" << r.output;
     expect_message(r.output, {file.string() + ":" + std::to_string(line_of(kValid, "cell_size")) + ":",
                               "grid.cell_size", "positive length"});
@@ -407,16 +346,16 @@ TEST(ProgramErrors, CheckAndRunRefuseBadInput) {
 }
 
 TEST(ProgramErrors, CheckAcceptsValidInput) {
-  TempDir tmp;
+  TempDir tmp("tsuchi_input_errors");
   const fs::path file = tmp.path / "good.toml";
   write_file(file, kValid);
-  const Result r = run_program("check " + quoted(file));
+  const ProgramResult r = run_program("check " + quoted(file));
   EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
   expect_message(r.output, {"input is valid"});
 }
 
 TEST(ProgramErrors, FixedDtAboveStableLimit) {
-  TempDir tmp;
+  TempDir tmp("tsuchi_input_errors");
   const fs::path file = tmp.path / "dt.toml";
   const fs::path outdir = tmp.path / "out_dt";
   // c_p = sqrt((K + 4G/3) / rho) ~ 82 m/s, h = 0.1 m: the stable limit is about 1.2e-3 s.
@@ -424,14 +363,14 @@ TEST(ProgramErrors, FixedDtAboveStableLimit) {
   text = replace(text, "end = 0.01", "end = 1.0");
   text = replace(text, "directory = \"out\"", "directory = \"" + outdir.string() + "\"");
   write_file(file, text);
-  const Result r = run_program("run " + quoted(file));
+  const ProgramResult r = run_program("run " + quoted(file));
   EXPECT_EQ(r.status, tsuchi::exit_code::input) << r.output;
   expect_message(r.output, {file.string(), "time.dt", "stable limit"});
   EXPECT_FALSE(fs::exists(outdir)) << "a refused time step created the output directory";
 }
 
 TEST(ProgramErrors, ParticleLeavesTheGrid) {
-  TempDir tmp;
+  TempDir tmp("tsuchi_input_errors");
   const fs::path file = tmp.path / "escape.toml";
   const fs::path outdir = tmp.path / "out_escape";
   const std::string text = R"([model]
@@ -463,7 +402,7 @@ directory = ")" + outdir.string() + R"("
 frames = false
 )";
   write_file(file, text);
-  const Result r = run_program("run " + quoted(file));
+  const ProgramResult r = run_program("run " + quoted(file));
   EXPECT_EQ(r.status, tsuchi::exit_code::run) << r.output;
   expect_message(r.output, {"left the grid", "\"runner\""});
   std::smatch m;

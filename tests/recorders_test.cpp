@@ -4,6 +4,8 @@
 #include "tsuchi/solver/recorder.hpp"
 #include "tsuchi/solver/simulation.hpp"
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,6 +14,8 @@
 #include <vector>
 
 namespace {
+
+using namespace tsuchi::test;
 
 using namespace tsuchi;
 
@@ -91,9 +95,7 @@ TEST(Recorders, StopBoundEndsTheRunAtTheFirstCrossing) {
   Model<2> m = build_model<2>(c);
   const Recorder<2> drift(c.recorders[0], m);
   double before = 0.0, last = 0.0;
-  RunOptions o;
-  o.write_output = false;
-  const RunSummary s = run_simulation<2>(m, o, [&](const ExplicitSolver<2>&) {
+  const RunSummary s = run_simulation<2>(m, no_output(), [&](const ExplicitSolver<2>&) {
     before = last;
     last = drift.value(m.particles);
   });

@@ -5,6 +5,8 @@
 #include "tsuchi/solver/global_quantities.hpp"
 #include "tsuchi/solver/simulation.hpp"
 
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -15,6 +17,8 @@
 
 namespace {
 
+using namespace tsuchi::test;
+
 using namespace tsuchi;
 using std::numbers::pi;
 
@@ -24,12 +28,6 @@ template <int D>
 Model<D> load(const std::string& rel, std::vector<std::string> overrides = {}) {
   overrides.push_back("output.frames=false");
   return build_model<D>(read_config_file(example(rel), overrides));
-}
-
-RunOptions quiet() {
-  RunOptions o;
-  o.write_output = false;
-  return o;
 }
 
 // Simple shear of a hypoelastic block with the Jaumann rate, METHOD.md eq (23), to gamma = pi:
@@ -47,7 +45,7 @@ TEST(Verification, SimpleShearJaumannToGammaPi) {
   }
   ASSERT_GE(centre.size(), 40u);
   double worst = 0.0, gamma_end = 0.0;
-  run_simulation<2>(m, quiet(), [&](const ExplicitSolver<2>& s) {
+  run_simulation<2>(m, no_output(), [&](const ExplicitSolver<2>& s) {
     if (s.steps() % 100 != 0 && s.time() < m.config.time.end * (1 - 1e-12)) return;
     const double g = gamma_dot * s.time();
     gamma_end = g;
@@ -72,7 +70,7 @@ BarResult run_bar(std::vector<std::string> overrides) {
   std::vector<double> t{0.0}, v;
   const auto q0 = global_quantities<2>(m);
   v.push_back(q0.momentum[0] / q0.mass);
-  run_simulation<2>(m, quiet(), [&](const ExplicitSolver<2>& s) {
+  run_simulation<2>(m, no_output(), [&](const ExplicitSolver<2>& s) {
     const auto q = global_quantities<2>(s.model());
     t.push_back(s.time());
     v.push_back(q.momentum[0] / q.mass);
@@ -121,7 +119,7 @@ template <int D>
 double column_error(const std::string& file, double h, double* lateral_ratio = nullptr) {
   Model<D> m = load<D>(file, {"grid.cell_size=" + std::to_string(h)});
   const double rho = m.config.materials[0].density, g = 9.81, H = 1.0;
-  run_simulation<D>(m, quiet());
+  run_simulation<D>(m, no_output());
   const auto q = global_quantities<D>(m);
   EXPECT_LT(q.kinetic_energy, 1e-6 * q.strain_energy) << "column not at rest";
   double err = 0, ratio = 0;

@@ -1,10 +1,13 @@
 // tsuchi: the command-line program. `tsuchi run FILE` runs a model, `tsuchi check FILE` validates
 // it and prints what a run would do, `tsuchi element FILE` drives one material point along a
-// lab-test path. Exit codes: 0 ok, 1 usage, 2 input, 3 run fault, 4 output, 5 internal error.
+// lab-test path. Exit codes (core/errors.hpp): 0 ok, 1 usage, 2 input, 3 run fault, 4 output,
+// 5 internal error, 6 non-finite state, 7 particle left the grid, 8 volume collapse, 9 unstable
+// time step, 128 + signal when interrupted (the state is saved first).
 #include "element_command.hpp"
 #include "progress.hpp"
 
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/core/interrupt.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/solver/simulation.hpp"
@@ -15,6 +18,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 
 namespace {
@@ -27,6 +31,7 @@ struct Options {
   std::vector<std::string> overrides;
   bool quiet = false;
   int threads = 0;  // 0: OpenMP's default (OMP_NUM_THREADS, else every core)
+  std::string restart;
 };
 
 template <int D>
@@ -70,6 +75,10 @@ int run(const Config& c, const Options& o) {
   if (!o.quiet) print_summary<D>(m, o.output.empty() ? c.output.directory : o.output);
   RunOptions ro;
   if (!o.output.empty()) ro.output_directory = o.output;
+  if (!o.restart.empty()) {
+    ro.restart = o.restart;
+    if (!o.quiet) fmt::print("restart    from {}\n", o.restart);
+  }
   app::ProgressReporter reporter(stderr);
   Progress last;
   ro.on_progress = [&](const Progress& p) {
@@ -80,6 +89,7 @@ int run(const Config& c, const Options& o) {
   if (!o.quiet) reporter.finish(last);
   const double rate = s.wall_seconds > 0 ? static_cast<double>(s.steps) * static_cast<double>(m.particles.size()) / s.wall_seconds : 0.0;
   if (!s.stopped_by.empty()) fmt::print("stopped: {}\n", s.stopped_by);
+  if (!s.checkpoint.empty()) fmt::print("checkpoint: {}\n", s.checkpoint);
   fmt::print("done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s); {} frames in {}\n", s.steps,
              s.time, s.wall_seconds, rate, s.frames, s.directory);
   return exit_code::ok;
@@ -103,6 +113,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("-o,--output", o.output, "Output directory (overrides output.directory)");
   run_cmd->add_option("-s,--set", o.overrides, "Override an input key, e.g. --set time.end=0.5");
   run_cmd->add_flag("-q,--quiet", o.quiet, "No summary or progress");
+  run_cmd->add_option("-r,--restart", o.restart, "Continue from a checkpoint written by a run of the same input");
   run_cmd->add_option("-j,--threads", o.threads, "Threads (default: OMP_NUM_THREADS, else every core); results do not depend on it")
       ->check(CLI::Range(1, 1024));
   auto* check_cmd = app.add_subcommand("check", "Validate an input file and print the model summary");
@@ -121,15 +132,21 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? exit_code::ok : exit_code::usage;
   }
+  // A full disk or a file-size limit should be an error message, not a silent kill.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     if (element_cmd->parsed()) return tsuchi::app::run_element_command(eo);
+    if (run_cmd->parsed()) install_interrupt_handlers();
     return dispatch(run_cmd->parsed(), o);
   } catch (const InputError& e) {
     fmt::print(stderr, "\nerror in input: {}\n", e.what());
     return exit_code::input;
   } catch (const RunError& e) {
     fmt::print(stderr, "\nrun stopped: {}\n", e.what());
-    return exit_code::run;
+    return exit_code::of(e.fault);
+  } catch (const Interrupted& e) {
+    fmt::print(stderr, "\ninterrupted: {}\n", e.what());
+    return 128 + e.signal;
   } catch (const OutputError& e) {
     fmt::print(stderr, "\noutput failed: {}\n", e.what());
     return exit_code::output;

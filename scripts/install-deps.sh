@@ -8,6 +8,7 @@ packages=(
   libcli11-dev                     # command line
   libfmt-dev                       # formatting
   libmuparser-dev                  # formulas of position in input files (initial velocity)
+  zlib1g-dev                       # CRC-32 of checkpoints
   libgtest-dev                     # tests
   python3 python3-numpy python3-matplotlib  # plots of the examples
 )

@@ -403,7 +403,7 @@ frames = false
 )";
   write_file(file, text);
   const ProgramResult r = run_program("run " + quoted(file));
-  EXPECT_EQ(r.status, tsuchi::exit_code::run) << r.output;
+  EXPECT_EQ(r.status, tsuchi::exit_code::left_grid) << r.output;
   expect_message(r.output, {"left the grid", "\"runner\""});
   std::smatch m;
   ASSERT_TRUE(std::regex_search(r.output, m, std::regex("step ([0-9]+) \\(t = [^)]*\\): particle")))

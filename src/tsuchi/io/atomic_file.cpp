@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -12,31 +13,58 @@
 
 namespace tsuchi {
 
+namespace {
+
+namespace fs = std::filesystem;
+
+// ".NAME.tmp.PID" beside the target: hidden from ParaView's file dialog and globbing, and the PID
+// tells a later run whether the writer is still alive.
+std::string temporary_name(const std::string& path) {
+  const fs::path p(path);
+  return (p.parent_path() / fmt::format(".{}.tmp.{}", p.filename().string(), static_cast<long>(::getpid()))).string();
+}
+
+}  // namespace
+
 void write_file_atomically(const std::string& path, std::string_view contents) {
-  const std::string tmp = fmt::format("{}.tmp{}", path, static_cast<long>(::getpid()));
+  const std::string tmp = temporary_name(path);
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw OutputError(fmt::format("cannot write {}: {}", tmp, std::strerror(errno)));
+  if (!f) throw OutputError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
   const bool written = std::fwrite(contents.data(), 1, contents.size(), f) == contents.size();
-  const int err_write = errno;
+  int err = written ? 0 : errno;
   const bool flushed = std::fflush(f) == 0;
+  if (!err && !flushed) err = errno;
+  // On disk before the rename, so that a crash of the machine cannot leave a renamed empty file.
+  const bool synced = ::fsync(::fileno(f)) == 0;
+  if (!err && !synced) err = errno;
   const bool closed = std::fclose(f) == 0;
-  if (!written || !flushed || !closed) {
+  if (!err && !closed) err = errno;
+  if (!written || !flushed || !synced || !closed) {
     std::remove(tmp.c_str());
-    throw OutputError(fmt::format("cannot write {}: {}", path, std::strerror(written ? errno : err_write)));
+    throw OutputError(fmt::format("cannot write {} ({} bytes): {}; free space or choose another output.directory",
+                                  path, contents.size(), std::strerror(err)));
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    const int err = errno;
+    const int e = errno;
     std::remove(tmp.c_str());
-    throw OutputError(fmt::format("cannot rename {} to {}: {}", tmp, path, std::strerror(err)));
+    throw OutputError(fmt::format("cannot rename {} to {}: {}", tmp, path, std::strerror(e)));
   }
 }
 
 void prepare_output_directory(const std::string& dir) {
   std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
+  fs::create_directories(dir, ec);
   if (ec) throw OutputError(fmt::format("cannot create the output directory {}: {}", dir, ec.message()));
   if (::access(dir.c_str(), W_OK) != 0)
     throw OutputError(fmt::format("the output directory {} is not writable: {}", dir, std::strerror(errno)));
+  // Temporary files of a run that was killed mid-write; those of a live process are left alone.
+  for (const auto& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    const auto at = name.rfind(".tmp.");
+    if (name.empty() || name[0] != '.' || at == std::string::npos) continue;
+    const long pid = std::strtol(name.c_str() + at + 5, nullptr, 10);
+    if (pid > 0 && (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH)) fs::remove(entry.path(), ec);
+  }
 }
 
 }  // namespace tsuchi

@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <sstream>
 
 namespace tsuchi {
 
@@ -316,6 +317,35 @@ void read_output(Section& s, Config& c) {
   s.finish();
 }
 
+void read_checkpoint(Section& s, Config& c) {
+  auto& k = c.checkpoint;
+  k.every_steps = s.integer("every_steps", "a non-negative whole number of steps", [](std::int64_t n) { return n >= 0; }, 0);
+  k.every_minutes = s.number("every_minutes", "a non-negative wall time in minutes", non_negative, 0.0);
+  k.file = s.string("file", "a file name", k.file);
+  if (k.file.empty() || k.file.back() == '/') s.fail("file", fmt::format("expected a file name, got \"{}\"", k.file));
+  s.finish();
+}
+
+// FNV-1a over the canonical TOML text of the input without the keys a restart may change. toml++
+// keeps tables sorted by key, so the text does not depend on the order of keys in the file.
+std::uint64_t fingerprint(const toml::table& root) {
+  toml::table t = root;
+  t.erase("output");
+  t.erase("checkpoint");
+  if (auto* m = t.get_as<toml::table>("model")) m->erase("title");
+  if (auto* time = t.get_as<toml::table>("time")) {
+    for (const char* k : {"end", "max_steps", "dt", "courant"}) time->erase(k);
+  }
+  if (auto* recs = t.get_as<toml::array>("recorders"))
+    for (auto& r : *recs)
+      if (auto* rt = r.as_table()) rt->erase("stop_above"), rt->erase("stop_below");
+  std::ostringstream text;
+  text << toml::toml_formatter(t, toml::format_flags::none);
+  std::uint64_t h = 1469598103934665603ull;
+  for (const unsigned char ch : text.str()) h = (h ^ ch) * 1099511628211ull;
+  return h;
+}
+
 void read_recorder(Section& s, Config& c) {
   RecorderConfig r;
   const int dim = c.dimension;
@@ -410,6 +440,11 @@ Config read_document(const toml::table& root, const std::string& file) {
   Section os(out ? *out : no_output, "output", file);
   read_output(os, c);
 
+  if (const toml::table* t = top.table("checkpoint")) {
+    Section s(*t, "checkpoint", file);
+    read_checkpoint(s, c);
+  }
+
   const auto recorders = top.tables("recorders");
   for (std::size_t i = 0; i < recorders.size(); ++i) {
     Section s(*recorders[i], fmt::format("recorders.{}", i), file);
@@ -417,6 +452,7 @@ Config read_document(const toml::table& root, const std::string& file) {
   }
 
   top.finish();
+  c.fingerprint = fingerprint(root);
   return c;
 }
 

@@ -14,10 +14,19 @@
 
 namespace tsuchi {
 
+// Everything the files above hold so far, kept in memory so each rewrite is whole; a checkpoint
+// saves it and a restart puts it back.
+struct OutputHistory {
+  std::vector<std::pair<double, std::string>> frames;  // (time, file name) listed in the .pvd
+  std::string global_csv;
+  std::string recorder_csv;  // empty when the input has no recorders
+};
+
 template <int D>
 class OutputWriter {
  public:
-  OutputWriter(const Model<D>& model, std::string directory);
+  // `recorders` are the run's (chosen on the initial state) and must outlive the writer.
+  OutputWriter(const Model<D>& model, std::string directory, const std::vector<Recorder<D>>& recorders);
 
   void frame(double time);
   void global_row(double time, std::int64_t step, double dt);
@@ -26,15 +35,16 @@ class OutputWriter {
   void flush_global();
 
   const std::string& directory() const { return dir_; }
-  std::size_t frames_written() const { return frames_.size(); }
+  std::size_t frames_written() const { return h_.frames.size(); }
+  const OutputHistory& history() const { return h_; }
+  // Continues the files of a checkpointed run: later frames and rows follow the saved ones.
+  void restore(OutputHistory h) { h_ = std::move(h); }
 
  private:
   const Model<D>& m_;
   std::string dir_;
-  std::vector<std::pair<double, std::string>> frames_;
-  std::string csv_;
-  std::vector<Recorder<D>> recorders_;
-  std::string recorder_csv_;
+  OutputHistory h_;
+  const std::vector<Recorder<D>>& recorders_;
 };
 
 extern template class OutputWriter<2>;

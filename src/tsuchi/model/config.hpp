@@ -88,6 +88,15 @@ struct TimeConfig {
   std::int64_t max_steps = 0;      // 0: no limit
 };
 
+// When the run saves its whole state for a restart (io/checkpoint.hpp). A checkpoint is also
+// written on SIGINT / SIGTERM and at the end of a run that has either interval set.
+struct CheckpointConfig {
+  std::int64_t every_steps = 0;    // 0: not by step count
+  double every_minutes = 0.0;      // 0: not by wall time
+  std::string file = "checkpoint.tsuchi";  // relative to the output directory unless absolute
+  bool enabled() const { return every_steps > 0 || every_minutes > 0.0; }
+};
+
 struct OutputConfig {
   std::string directory = "results";
   double interval = 0.0;           // s between particle frames; 0 writes only the first and last
@@ -121,7 +130,12 @@ struct Config {
   SolverConfig solver;
   TimeConfig time;
   OutputConfig output;
+  CheckpointConfig checkpoint;
   std::vector<RecorderConfig> recorders;
+  // Hash of everything that decides the state of a run (not the end time, step limit, output,
+  // checkpoint schedule, time step choice, stop bounds or title): a checkpoint restarts only a
+  // configuration with the same fingerprint.
+  std::uint64_t fingerprint = 0;
 };
 
 const char* to_string(Scheme s);

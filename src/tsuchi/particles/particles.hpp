@@ -3,6 +3,7 @@
 #include "tsuchi/core/tensor.hpp"
 
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 namespace tsuchi {
@@ -30,37 +31,39 @@ struct Particles {
 
   std::size_t size() const { return x_p.size(); }
 
+  // Calls f(name, array) for every per-particle array: the one list that resizing, reordering and
+  // checkpoints go through, so a new field cannot be forgotten by one of them.
+  template <class F>
+  void for_each_array(F&& f) {
+    f("x", x_p), f("u", u_p), f("v", v_p), f("l", l_p), f("m", m_p), f("V", V_p), f("sigma", sigma_p);
+    f("sigma0", sigma0_p), f("eps", eps_p), f("yield", yield_p), f("plastic_shear", plastic_shear_p);
+    f("plastic_volume", plastic_volume_p), f("c_scale", c_scale_p), f("phi_scale", phi_scale_p);
+    f("material", material_p), f("body", body_p), f("id", id_p);
+  }
+  template <class F>
+  void for_each_array(F&& f) const {
+    const_cast<Particles*>(this)->for_each_array([&](const char* name, const auto& a) { f(name, a); });
+  }
+
+  // New particles are zero, except the strength factors, which are 1.
   void resize(std::size_t n) {
-    x_p.resize(n, Vec<D>::Zero());
-    u_p.resize(n, Vec<D>::Zero());
-    v_p.resize(n, Vec<D>::Zero());
-    l_p.resize(n, Vec<D>::Zero());
-    m_p.resize(n, 0.0);
-    V_p.resize(n, 0.0);
-    sigma_p.resize(n, Voigt<D>::Zero());
-    sigma0_p.resize(n, Voigt<D>::Zero());
-    eps_p.resize(n, Voigt<D>::Zero());
-    yield_p.resize(n, 0);
-    plastic_shear_p.resize(n, 0.0);
-    plastic_volume_p.resize(n, 0.0);
-    c_scale_p.resize(n, 1.0);
-    phi_scale_p.resize(n, 1.0);
-    material_p.resize(n, 0);
-    body_p.resize(n, 0);
-    id_p.resize(n, 0);
+    const std::size_t old = size();
+    for_each_array([n](const char*, auto& a) {
+      using T = typename std::decay_t<decltype(a)>::value_type;
+      if constexpr (std::is_arithmetic_v<T>) a.resize(n, T{0});
+      else a.resize(n, T::Zero());
+    });
+    for (std::size_t i = old; i < n; ++i) c_scale_p[i] = phi_scale_p[i] = 1.0;
   }
 
   // Reorders every array: particle k of the result is particle order[k] of this one. Ids move
   // with their particles, so outputs keyed by id are unchanged.
   template <class Index>
   void permute(const std::vector<Index>& order) {
-    const auto apply = [&](auto& a) {
+    for_each_array([&](const char*, auto& a) {
       auto copy = a;
       for (std::size_t k = 0; k < order.size(); ++k) a[k] = copy[static_cast<std::size_t>(order[k])];
-    };
-    apply(x_p), apply(u_p), apply(v_p), apply(l_p), apply(m_p), apply(V_p), apply(sigma_p), apply(sigma0_p);
-    apply(eps_p), apply(yield_p), apply(plastic_shear_p), apply(plastic_volume_p), apply(c_scale_p);
-    apply(phi_scale_p), apply(material_p), apply(body_p), apply(id_p);
+    });
   }
 
   static constexpr std::size_t bytes_per_particle() {

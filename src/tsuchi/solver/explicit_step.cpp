@@ -59,7 +59,7 @@ void ExplicitSolver<D>::step_with(double dt) {
       update_stress<Kernel>(dt, g.v_g, true);
       break;
   }
-  report_escape();
+  report_faults();
 }
 
 // Particle to grid, eqs (1)-(3): mass, momentum, and f_int = -sum V_p (sigma_p - sigma0_p) . G,
@@ -155,6 +155,7 @@ void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
     Vec<D> v = p.v_p[i] + dt * a;
     if (beta > 0.0) v = (1.0 - beta) * v + beta * vL;
     impose_motion(i, v);
+    if (!v.allFinite()) note_fault(nonfinite_, i);
     p.v_p[i] = v;
     if (remap) {
       const Vec<D> mv = p.m_p[i] * v;
@@ -217,7 +218,8 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
             }
             p.eps_p[i] += d_eps;
             const double J = 1.0 + trace<D>(d_eps);
-            if (!(J > 0.0)) note_fault(inverted_, i);
+            if (!p.sigma_p[i].allFinite() || !std::isfinite(J)) note_fault(nonfinite_, i);
+            else if (!(J > 0.0)) note_fault(inverted_, i);
             p.V_p[i] *= J;
             if (domain_update) {
               if (defer_domain) deferred_eps_[i] = d_eps;
@@ -273,22 +275,31 @@ void ExplicitSolver<D>::note_fault(std::int64_t& slot, std::size_t i) {
 }
 
 template <int D>
-void ExplicitSolver<D>::report_escape() const {
+std::string ExplicitSolver<D>::describe_particle(std::size_t i) const {
   const auto& p = m_.particles;
-  if (inverted_ >= 0) {
-    const auto i = static_cast<std::size_t>(inverted_);
-    throw RunError(fmt::format("step {} (t = {:.6g} s): particle {} of body \"{}\" was compressed to zero or "
-                               "negative volume in one step; reduce the time step (time.courant)",
-                               steps_ + 1, time_, p.id_p[i], m_.config.bodies[p.body_p[i]].name));
-  }
-  if (escaped_ < 0) return;
-  const auto i = static_cast<std::size_t>(escaped_);
   std::string pos;
   for (int d = 0; d < D; ++d) pos += fmt::format("{}{:.6g}", d ? ", " : "", p.x_p[i][d]);
-  throw RunError(fmt::format(
-      "step {} (t = {:.6g} s): particle {} of body \"{}\" left the grid at ({}); "
-      "enlarge grid.extent or fix the boundary it crossed",
-      steps_ + 1, time_, p.id_p[i], m_.config.bodies[p.body_p[i]].name, pos));
+  return fmt::format("particle {} of body \"{}\" at ({})", p.id_p[i], m_.config.bodies[p.body_p[i]].name, pos);
+}
+
+// A step with a fault is thrown away whole; the first kind found (in this order) is reported.
+template <int D>
+void ExplicitSolver<D>::report_faults() const {
+  const std::string when = fmt::format("step {} (t = {:.6g} s)", steps_ + 1, time_);
+  if (nonfinite_ >= 0)
+    throw RunError(fmt::format("{}: {} got a non-finite stress, velocity or volume; the run is unstable there: "
+                               "reduce time.courant, add solver.damping, or check the material parameters",
+                               when, describe_particle(static_cast<std::size_t>(nonfinite_))),
+                   Fault::NonFinite);
+  if (inverted_ >= 0)
+    throw RunError(fmt::format("{}: {} was compressed to zero or negative volume in one step; reduce the time "
+                               "step (time.courant) or the loading speed",
+                               when, describe_particle(static_cast<std::size_t>(inverted_))),
+                   Fault::VolumeCollapse);
+  if (escaped_ >= 0)
+    throw RunError(fmt::format("{}: {} left the grid; enlarge grid.extent or fix the boundary it crossed", when,
+                               describe_particle(static_cast<std::size_t>(escaped_))),
+                   Fault::LeftGrid);
 }
 
 template class ExplicitSolver<2>;

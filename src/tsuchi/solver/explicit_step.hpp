@@ -10,6 +10,7 @@
 #include "tsuchi/solver/block_schedule.hpp"
 
 #include <cstdint>
+#include <string>
 
 namespace tsuchi {
 
@@ -18,8 +19,12 @@ class ExplicitSolver {
  public:
   explicit ExplicitSolver(Model<D>& model) : m_(model) {}
 
-  // Advances by dt. Throws RunError if a particle leaves the grid.
+  // Advances by dt. Throws RunError (with the fault kind) if a particle leaves the grid, collapses
+  // or gets a non-finite state; the particles then hold the faulty step's result.
   void step(double dt);
+
+  // Continues a run saved at (time, steps), for a restart.
+  void resume(double time, std::int64_t steps) { time_ = time, steps_ = steps; }
 
   double time() const { return time_; }
   std::int64_t steps() const { return steps_; }
@@ -36,7 +41,8 @@ class ExplicitSolver {
   void impose_motion(std::size_t i, Vec<D>& v) const;
   void move_particle(std::size_t i, double dt, Vec<D> vL);
   void apply_deferred_domain_update();
-  void report_escape() const;
+  void report_faults() const;
+  std::string describe_particle(std::size_t i) const;
   static void note_fault(std::int64_t& slot, std::size_t i);
 
   Model<D>& m_;
@@ -44,6 +50,7 @@ class ExplicitSolver {
   std::int64_t steps_ = 0;
   std::int64_t escaped_ = -1;   // first particle found outside the grid in this step
   std::int64_t inverted_ = -1;  // first particle whose volume went to zero or below
+  std::int64_t nonfinite_ = -1; // first particle with a NaN or Inf stress, velocity or volume
   std::vector<Voigt<D>> deferred_eps_;  // USF: this step's strain increments, for the domain update
   BlockSchedule<D> schedule_;           // colour-by-colour scatter order, rebuilt every step
 };

@@ -1,6 +1,8 @@
 #include "tsuchi/solver/simulation.hpp"
 
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/core/interrupt.hpp"
+#include "tsuchi/io/checkpoint.hpp"
 #include "tsuchi/io/output_writer.hpp"
 #include "tsuchi/solver/recorder.hpp"
 #include "tsuchi/solver/time_step.hpp"
@@ -14,7 +16,8 @@ namespace tsuchi {
 
 double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step, const std::string& source) {
   if (std::isnan(dt_crit))
-    throw RunError(fmt::format("step {}: a particle's velocity, volume or mass is not finite", step + 1));
+    throw RunError(fmt::format("step {}: a particle's velocity, volume or mass is not finite", step + 1),
+                   Fault::NonFinite);
   if (time.courant) return *time.courant * dt_crit;
   if (*time.dt > dt_crit) {
     const std::string msg = fmt::format(
@@ -22,9 +25,14 @@ double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step,
         "speed)); set time.dt below it, or set time.courant instead",
         *time.dt, dt_crit);
     if (step == 0) throw InputError(fmt::format("{}: {}", source, msg));
-    throw RunError(fmt::format("step {}: {}", step + 1, msg));
+    throw RunError(fmt::format("step {}: {}", step + 1, msg), Fault::UnstableStep);
   }
   return *time.dt;
+}
+
+std::string checkpoint_path(const Config& config, const std::string& output_directory) {
+  const std::string& f = config.checkpoint.file;
+  return f.front() == '/' ? f : output_directory + "/" + f;
 }
 
 template <int D>
@@ -34,45 +42,89 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   const auto wall_start = clock::now();
   const TimeConfig& tc = model.config.time;
   const OutputConfig& oc = model.config.output;
+  const CheckpointConfig& kc = model.config.checkpoint;
   const double end = tc.end;
 
   ExplicitSolver<D> solver(model);
   const std::string dir = options.output_directory.value_or(oc.directory);
+  const std::string ck_path = checkpoint_path(model.config, dir);
+  // Particle sets are chosen on the initial state, before a checkpoint replaces it.
+  std::vector<Recorder<D>> recorders;
+  for (const auto& rc : model.config.recorders) recorders.emplace_back(rc, model);
+  RunProgress start;
+  if (options.restart) {
+    start = read_checkpoint<D>(*options.restart, model);
+    solver.resume(start.time, start.steps);
+  }
   // Check the first step before anything is written: a refused dt leaves the directory untouched.
   double dt = next_time_step(tc, critical_time_step<D>(model.particles, model.config.materials, model.grid.h),
                              0, model.config.source);
+  if (options.restart) dt = start.dt;
 
   std::optional<OutputWriter<D>> out;
   if (options.write_output) {
-    out.emplace(model, dir);
-    out->global_row(0.0, 0, 0.0);
-    out->frame(0.0);
+    out.emplace(model, dir, recorders);
+    if (options.restart) {
+      out->restore(start.output);
+    } else {
+      out->global_row(0.0, 0, 0.0);
+      out->frame(0.0);
+    }
   }
-  // Recorders with a stop bound are evaluated after every step; the others only on output rows.
-  std::vector<Recorder<D>> stops;
-  for (const auto& rc : model.config.recorders)
-    if (rc.stop_above || rc.stop_below) stops.emplace_back(rc, model);
   std::string stopped_by;
-  std::int64_t frame_index = 1, row_index = 1;
+  std::int64_t frame_index = start.frame_index, row_index = start.row_index;
   auto frame_time = [&](std::int64_t k) { return oc.interval > 0 ? std::min(end, static_cast<double>(k) * oc.interval) : end; };
+  // A restart may come with another output interval or end time: skip frame times already past.
+  while (frame_time(frame_index) <= start.time && frame_time(frame_index) < end) ++frame_index;
   double next_frame = frame_time(frame_index);
   double next_row = oc.global_interval * static_cast<double>(row_index);
-  double last_frame = 0.0, last_row = 0.0;
+  double last_frame = start.last_frame, last_row = start.last_row;
   auto last_flush = clock::now();
+  auto last_checkpoint = clock::now();
+  std::pair<std::int64_t, std::string> saved{-1, ""};  // step and file of the latest checkpoint
+  if (options.restart) saved = {start.steps, *options.restart};
+  const auto checkpoint_wall = std::chrono::duration<double>(60.0 * kc.every_minutes);
+
+  // The state at the end of a step, before any end-of-run extras, so that a restart from it
+  // continues exactly as the run would have.
+  auto save = [&] {
+    if (!out) return;
+    RunProgress now{solver.time(), solver.steps(), dt, frame_index, row_index, last_frame, last_row, out->history()};
+    write_checkpoint<D>(ck_path, model, now);
+    last_checkpoint = clock::now();
+    saved = {solver.steps(), ck_path};
+  };
 
   try {
     while (solver.time() < end * (1.0 - 1e-12)) {
       if (tc.max_steps > 0 && solver.steps() >= tc.max_steps) break;
       const double t = solver.time();
-      if (solver.steps() > 0)
-        dt = next_time_step(tc, critical_time_step<D>(model.particles, model.config.materials, model.grid.h),
-                            solver.steps(), model.config.source);
+      if (solver.steps() > 0) {
+        try {
+          dt = next_time_step(tc, critical_time_step<D>(model.particles, model.config.materials, model.grid.h),
+                              solver.steps(), model.config.source);
+        } catch (const RunError& e) {
+          // The state is still that of a good step: worth saving for a restart with a smaller dt.
+          if (e.fault == Fault::UnstableStep && out) {
+            save();
+            if (solver.time() > last_frame) out->frame(solver.time());
+          }
+          throw;
+        }
+      }
       // Land exactly on the next frame (or the end); split the approach in two equal steps rather
       // than leave a sliver of a step.
       const double target = std::min(end, next_frame);
       if (t + dt * (1.0 + 1e-6) >= target) dt = target - t;
       else if (t + 2.0 * dt > target) dt = 0.5 * (target - t);
-      solver.step(dt);
+      try {
+        solver.step(dt);
+      } catch (const RunError& e) {
+        // A particle outside the grid or collapsed is worth seeing; a non-finite state is not, and
+        // none of them can be stepped on, so no checkpoint.
+        if (out && e.fault != Fault::NonFinite) out->frame(solver.time() + dt);
+        throw;
+      }
       const double now = solver.time();
       const double tol = 1e-6 * dt;  // above the round-off of summing thousands of steps
       if (after_step) after_step(solver);
@@ -99,16 +151,37 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
       }
       if (options.on_progress)
         options.on_progress({solver.steps(), now, end, dt, out ? out->frames_written() : 0});
-      for (const auto& r : stops) {
+      for (const auto& r : recorders) {
         stopped_by = r.stop_reason(r.value(model.particles));
         if (!stopped_by.empty()) break;
       }
+      if (const int sig = pending_interrupt()) {
+        save();
+        if (out) out->flush_global();
+        throw Interrupted(
+            out ? fmt::format("signal {} at step {} (t = {:.6g} s); the state is saved in {}; continue with --restart {}",
+                              sig, solver.steps(), now, ck_path, ck_path)
+                : fmt::format("signal {} at step {} (t = {:.6g} s)", sig, solver.steps(), now),
+            sig);
+      }
       if (!stopped_by.empty()) break;
+      if ((kc.every_steps > 0 && solver.steps() % kc.every_steps == 0) ||
+          (kc.every_minutes > 0.0 && clock::now() - last_checkpoint >= checkpoint_wall))
+        save();
     }
-  } catch (...) {
+  } catch (const Interrupted&) {
+    throw;
+  } catch (const RunError& e) {
     if (out) out->flush_global();  // keep the history up to the failure
+    if (saved.first < 0) throw;
+    throw RunError(fmt::format("{}\nthe latest checkpoint is step {}: {} (tsuchi run ... --restart {})", e.what(),
+                               saved.first, saved.second, saved.second),
+                   e.fault);
+  } catch (...) {
+    if (out) out->flush_global();
     throw;
   }
+  if (kc.enabled()) save();
   if (out) {
     if (solver.time() > last_row) out->global_row(solver.time(), solver.steps(), dt);  // the final state
     if (solver.time() > last_frame) out->frame(solver.time());
@@ -121,6 +194,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   s.frames = out ? out->frames_written() : 0;
   s.directory = dir;
   s.stopped_by = stopped_by;
+  s.checkpoint = kc.enabled() && out ? ck_path : std::string{};
   return s;
 }
 

@@ -22,6 +22,7 @@ struct RunOptions {
   std::optional<std::string> output_directory;     // overrides output.directory
   std::function<void(const Progress&)> on_progress;  // called after every step
   bool write_output = true;
+  std::optional<std::string> restart;  // checkpoint to continue from
 };
 
 struct RunSummary {
@@ -31,7 +32,11 @@ struct RunSummary {
   std::size_t frames = 0;
   std::string directory;
   std::string stopped_by;  // the recorder bound that ended the run early, if one did
+  std::string checkpoint;  // the final checkpoint, when the input asks for checkpoints
 };
+
+// Where the checkpoint of a run writing to `output_directory` goes.
+std::string checkpoint_path(const Config& config, const std::string& output_directory);
 
 // The step size for the next step from the time settings and the current critical step;
 // throws InputError (at step 0) or RunError (later) if a fixed dt exceeds the stable limit.

@@ -1,0 +1,289 @@
+#include "tsuchi/io/checkpoint.hpp"
+
+#include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/atomic_file.hpp"
+#include "tsuchi/io/toml_section.hpp"
+
+#include <fmt/format.h>
+#include <zlib.h>
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <type_traits>
+
+namespace tsuchi {
+
+static_assert(std::endian::native == std::endian::little, "checkpoints are written little-endian");
+
+namespace {
+
+constexpr char magic[8] = {'T', 'S', 'U', 'C', 'H', 'I', 'C', 'K'};
+constexpr std::size_t header_size = 8 + 4 + 4 + 8 + 8;  // magic, version, dimension, fingerprint, particles
+
+std::uint32_t crc32_of(std::string_view bytes) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  // zlib takes lengths as uInt: feed large files in pieces.
+  for (std::size_t at = 0; at < bytes.size();) {
+    const std::size_t n = std::min<std::size_t>(bytes.size() - at, 1u << 30);
+    crc = crc32(crc, reinterpret_cast<const Bytef*>(bytes.data() + at), static_cast<uInt>(n));
+    at += n;
+  }
+  return static_cast<std::uint32_t>(crc);
+}
+
+// Numbers, or fixed-size Eigen vectors that are nothing but their coefficients: safe to copy as
+// bytes (Eigen's types are not formally trivially copyable).
+template <class T>
+constexpr bool is_plain() {
+  if constexpr (std::is_arithmetic_v<T>) return true;
+  else return T::SizeAtCompileTime > 0 && sizeof(T) == T::SizeAtCompileTime * sizeof(typename T::Scalar);
+}
+
+class Encoder {
+ public:
+  template <class T>
+  void raw(const T& v) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    out_.append(reinterpret_cast<const char*>(&v), sizeof(T));
+  }
+  // A section: name length (u32), name, byte count (u64), bytes.
+  void section(std::string_view name, const void* data, std::size_t bytes) {
+    raw(static_cast<std::uint32_t>(name.size()));
+    out_.append(name);
+    raw(static_cast<std::uint64_t>(bytes));
+    out_.append(static_cast<const char*>(data), bytes);
+  }
+  template <class T>
+  void array(std::string_view name, const std::vector<T>& a) {
+    static_assert(is_plain<T>());
+    section(name, a.data(), a.size() * sizeof(T));
+  }
+  template <class T>
+  void scalar(std::string_view name, const T& v) {
+    section(name, &v, sizeof(T));
+  }
+  void text(std::string_view name, std::string_view s) { section(name, s.data(), s.size()); }
+  std::string& bytes() { return out_; }
+
+ private:
+  std::string out_;
+};
+
+// Splits the sections once, then hands each out by name with its size checked, so a damaged or
+// hostile file can only ever produce an error.
+class Decoder {
+ public:
+  Decoder(std::string_view body, const std::string& source) : source_(source) {
+    std::size_t at = 0;
+    auto take = [&](std::size_t n, const char* what) {
+      if (body.size() - at < n) fail(fmt::format("truncated in {}", what));
+      const std::string_view s = body.substr(at, n);
+      at += n;
+      return s;
+    };
+    while (at < body.size()) {
+      std::uint32_t name_len = 0;
+      std::memcpy(&name_len, take(4, "a section name").data(), 4);
+      if (name_len == 0 || name_len > 64) fail("a section name has an impossible length");
+      const std::string name(take(name_len, "a section name"));
+      std::uint64_t n = 0;
+      std::memcpy(&n, take(8, "a section size").data(), 8);
+      if (n > body.size() - at) fail(fmt::format("section \"{}\" is longer than the file", name));
+      if (!sections_.emplace(name, take(static_cast<std::size_t>(n), "a section")).second)
+        fail(fmt::format("section \"{}\" appears twice", name));
+    }
+  }
+
+  std::string_view section(const std::string& name) const {
+    const auto it = sections_.find(name);
+    if (it == sections_.end()) fail(fmt::format("section \"{}\" is missing", name));
+    return it->second;
+  }
+  template <class T>
+  void array(const std::string& name, std::vector<T>& a, std::size_t count) const {
+    static_assert(is_plain<T>());
+    const std::string_view s = section(name);
+    if (s.size() != count * sizeof(T))
+      fail(fmt::format("section \"{}\" holds {} bytes, expected {} ({} particles)", name, s.size(),
+                       count * sizeof(T), count));
+    a.resize(count);
+    if (count > 0) std::memcpy(static_cast<void*>(a.data()), s.data(), s.size());
+  }
+  template <class T>
+  T scalar(const std::string& name) const {
+    const std::string_view s = section(name);
+    if (s.size() != sizeof(T)) fail(fmt::format("section \"{}\" has the wrong size", name));
+    T v;
+    std::memcpy(&v, s.data(), sizeof(T));
+    return v;
+  }
+  std::string text(const std::string& name) const { return std::string(section(name)); }
+
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError(fmt::format("{}: not a usable checkpoint: {}", source_, what));
+  }
+
+ private:
+  std::string source_;
+  std::map<std::string, std::string_view, std::less<>> sections_;
+};
+
+template <class T>
+bool all_finite(const std::vector<T>& a) {
+  for (const auto& v : a) {
+    if constexpr (std::is_floating_point_v<T>) {
+      if (!std::isfinite(v)) return false;
+    } else {
+      if (!v.allFinite()) return false;
+    }
+  }
+  return true;
+}
+
+// The particle state must make sense for the model it is loaded into; the checksum guards against
+// damage, this against a file that was never written by tsuchi.
+template <int D>
+void check_particles(const Particles<D>& p, const Model<D>& model, const Decoder& in) {
+  const std::size_t n = p.size();
+  const auto nbodies = static_cast<std::int32_t>(model.config.bodies.size());
+  const auto nmat = static_cast<std::int32_t>(model.config.materials.size());
+  if (!all_finite(p.x_p) || !all_finite(p.u_p) || !all_finite(p.v_p) || !all_finite(p.l_p) || !all_finite(p.m_p) ||
+      !all_finite(p.V_p) || !all_finite(p.sigma_p) || !all_finite(p.sigma0_p) || !all_finite(p.eps_p) ||
+      !all_finite(p.plastic_shear_p) || !all_finite(p.plastic_volume_p) || !all_finite(p.c_scale_p) ||
+      !all_finite(p.phi_scale_p))
+    in.fail("a particle value is not finite");
+  std::vector<bool> seen(n, false);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (p.body_p[i] < 0 || p.body_p[i] >= nbodies) in.fail(fmt::format("particle {} names body {}", i, p.body_p[i]));
+    if (p.material_p[i] < 0 || p.material_p[i] >= nmat)
+      in.fail(fmt::format("particle {} names material {}", i, p.material_p[i]));
+    if (p.id_p[i] < 0 || static_cast<std::size_t>(p.id_p[i]) >= n || seen[static_cast<std::size_t>(p.id_p[i])])
+      in.fail(fmt::format("particle {} has an invalid or repeated id {}", i, p.id_p[i]));
+    seen[static_cast<std::size_t>(p.id_p[i])] = true;
+    if (!(p.m_p[i] > 0.0) || !(p.V_p[i] > 0.0)) in.fail(fmt::format("particle {} has no mass or volume", i));
+    if (p.yield_p[i] > 2) in.fail(fmt::format("particle {} has an unknown yield mode", i));
+    for (int d = 0; d < D; ++d) {
+      if (!(p.l_p[i][d] >= 0.0)) in.fail(fmt::format("particle {} has a negative domain size", i));
+      if (p.x_p[i][d] < model.grid.origin[d] || p.x_p[i][d] > model.grid.upper()[d])
+        in.fail(fmt::format("particle {} lies outside the grid", i));
+    }
+  }
+}
+
+}  // namespace
+
+template <int D>
+void write_checkpoint(const std::string& path, const Model<D>& model, const RunProgress& r) {
+  Encoder e;
+  e.bytes().append(magic, sizeof magic);
+  e.raw(checkpoint_version);
+  e.raw(static_cast<std::uint32_t>(D));
+  e.raw(model.config.fingerprint);
+  e.raw(static_cast<std::uint64_t>(model.particles.size()));
+  e.scalar("time", r.time);
+  e.scalar("steps", r.steps);
+  e.scalar("dt", r.dt);
+  e.scalar("frame_index", r.frame_index);
+  e.scalar("row_index", r.row_index);
+  e.scalar("last_frame", r.last_frame);
+  e.scalar("last_row", r.last_row);
+  model.particles.for_each_array([&](const char* name, const auto& a) { e.array(fmt::format("p.{}", name), a); });
+  e.text("global_csv", r.output.global_csv);
+  e.text("recorder_csv", r.output.recorder_csv);
+  std::vector<double> frame_times;
+  std::string frame_names;  // newline-separated
+  for (const auto& [t, name] : r.output.frames) frame_times.push_back(t), frame_names += name + '\n';
+  e.array("frame_times", frame_times);
+  e.text("frame_names", frame_names);
+  e.raw(crc32_of(e.bytes()));
+  write_file_atomically(path, e.bytes());
+}
+
+template <int D>
+RunProgress decode_checkpoint(std::string_view bytes, const std::string& source, Model<D>& model, bool verify_checksum) {
+  auto fail = [&](const std::string& what) -> void {
+    throw InputError(fmt::format("{}: not a usable checkpoint: {}", source, what));
+  };
+  if (bytes.size() < header_size + 4 || std::memcmp(bytes.data(), magic, sizeof magic) != 0)
+    fail("it does not start like a tsuchi checkpoint");
+  auto header = [&](std::size_t at, auto v) {
+    std::memcpy(&v, bytes.data() + at, sizeof v);
+    return v;
+  };
+  const auto version = header(8, std::uint32_t{});
+  const auto dim = header(12, std::uint32_t{});
+  const auto fp = header(16, std::uint64_t{});
+  const auto count = header(24, std::uint64_t{});
+  if (version != checkpoint_version)
+    fail(fmt::format("it has format version {}, this program reads version {}", version, checkpoint_version));
+  if (dim != static_cast<std::uint32_t>(D))
+    fail(fmt::format("it holds a {}D model, the input is {}D", dim, D));
+  const std::string_view body = bytes.substr(header_size, bytes.size() - header_size - 4);
+  std::uint32_t stored_crc = 0;
+  std::memcpy(&stored_crc, bytes.data() + bytes.size() - 4, 4);
+  if (verify_checksum && stored_crc != crc32_of(bytes.substr(0, bytes.size() - 4)))
+    fail("the checksum does not match: the file is damaged or incomplete");
+  if (fp != model.config.fingerprint)
+    fail(fmt::format("it was written for another input (the model, materials, bodies, boundary or solver "
+                     "differ from {}); only time.end, time.max_steps, the time step, [output], [checkpoint] and "
+                     "recorder stop bounds may change on a restart",
+                     model.config.source));
+  if (count != model.particles.size())
+    fail(fmt::format("it holds {} particles, the input makes {}", count, model.particles.size()));
+
+  const Decoder in(body, source);
+  RunProgress r;
+  r.time = in.scalar<double>("time");
+  r.steps = in.scalar<std::int64_t>("steps");
+  r.dt = in.scalar<double>("dt");
+  r.frame_index = in.scalar<std::int64_t>("frame_index");
+  r.row_index = in.scalar<std::int64_t>("row_index");
+  r.last_frame = in.scalar<double>("last_frame");
+  r.last_row = in.scalar<double>("last_row");
+  if (!std::isfinite(r.time) || r.time < 0.0 || r.steps < 0 || !std::isfinite(r.dt) || r.dt < 0.0 ||
+      r.frame_index < 1 || r.row_index < 1 || !std::isfinite(r.last_frame) || !std::isfinite(r.last_row))
+    in.fail("the time or the output counters are out of range");
+  Particles<D> p;
+  p.for_each_array([&](const char* name, auto& a) { in.array(fmt::format("p.{}", name), a, static_cast<std::size_t>(count)); });
+  check_particles(p, model, in);
+  r.output.global_csv = in.text("global_csv");
+  r.output.recorder_csv = in.text("recorder_csv");
+  std::vector<double> times;
+  const std::string_view names_all = in.section("frame_names");
+  const std::size_t nframes = static_cast<std::size_t>(std::count(names_all.begin(), names_all.end(), '\n'));
+  in.array("frame_times", times, nframes);
+  std::size_t at = 0;
+  for (const double t : times) {
+    const std::size_t end = names_all.find('\n', at);
+    const std::string name(names_all.substr(at, end - at));
+    at = end + 1;
+    if (name.empty() || name.find('/') != std::string::npos || name.find('"') != std::string::npos ||
+        name.find('<') != std::string::npos || name.find('&') != std::string::npos || !std::isfinite(t))
+      in.fail("a frame entry is not a plain file name and time");
+    r.output.frames.emplace_back(t, name);
+  }
+  model.particles = std::move(p);
+  return r;
+}
+
+template <int D>
+RunProgress read_checkpoint(const std::string& path, Model<D>& model) {
+  std::string bytes;
+  try {
+    bytes = io::read_input_file(path);
+  } catch (const InputError&) {
+    throw InputError(fmt::format("{}: cannot open the checkpoint", path));
+  }
+  return decode_checkpoint<D>(bytes, path, model, true);
+}
+
+template void write_checkpoint<2>(const std::string&, const Model<2>&, const RunProgress&);
+template void write_checkpoint<3>(const std::string&, const Model<3>&, const RunProgress&);
+template RunProgress read_checkpoint<2>(const std::string&, Model<2>&);
+template RunProgress read_checkpoint<3>(const std::string&, Model<3>&);
+template RunProgress decode_checkpoint<2>(std::string_view, const std::string&, Model<2>&, bool);
+template RunProgress decode_checkpoint<3>(std::string_view, const std::string&, Model<3>&, bool);
+
+}  // namespace tsuchi

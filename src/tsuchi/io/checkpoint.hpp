@@ -1,0 +1,56 @@
+#pragma once
+// Checkpoints: the whole state of a run in one file, so that a run stopped by a kill, a fault or
+// the end of a batch slot continues bit for bit. The layout is documented in docs/checkpoint.md:
+// a header (magic, version, dimension, input fingerprint, particle count), named sections of raw
+// little-endian arrays, and a CRC-32 of everything before it.
+//
+// What is saved: every particle array (Particles::for_each_array), the time and step counter, the
+// output counters, the frames listed in the .pvd and the CSV text written so far. Nothing else
+// carries over between steps: the grid is rebuilt from the particles every step, and the random
+// imperfection is drawn once at the start and lives in the particles' strength factors.
+#include "tsuchi/io/output_writer.hpp"
+#include "tsuchi/model/model.hpp"
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+namespace tsuchi {
+
+inline constexpr std::uint32_t checkpoint_version = 1;
+
+// The time loop's own state at the end of a step.
+struct RunProgress {
+  double time = 0.0;
+  std::int64_t steps = 0;
+  double dt = 0.0;                 // the last step's size
+  std::int64_t frame_index = 1;    // index of the next scheduled frame time
+  std::int64_t row_index = 1;      // index of the next scheduled global.csv row
+  double last_frame = 0.0, last_row = 0.0;  // times of the last frame and row written
+  OutputHistory output;
+};
+
+// Writes atomically (temporary file, then rename); throws OutputError.
+template <int D>
+void write_checkpoint(const std::string& path, const Model<D>& model, const RunProgress& progress);
+
+// Reads a checkpoint into `model` (built from the same input) and returns the loop state. Throws
+// InputError naming the file and what is wrong: not a checkpoint, another version, dimension or
+// input, a bad checksum, or a truncated or inconsistent content. The model is untouched then.
+template <int D>
+RunProgress read_checkpoint(const std::string& path, Model<D>& model);
+
+// The same from bytes in memory; `verify_checksum` is false only for fuzzing, which could not
+// otherwise get past the checksum to the parser.
+template <int D>
+RunProgress decode_checkpoint(std::string_view bytes, const std::string& source, Model<D>& model,
+                              bool verify_checksum = true);
+
+extern template void write_checkpoint<2>(const std::string&, const Model<2>&, const RunProgress&);
+extern template void write_checkpoint<3>(const std::string&, const Model<3>&, const RunProgress&);
+extern template RunProgress read_checkpoint<2>(const std::string&, Model<2>&);
+extern template RunProgress read_checkpoint<3>(const std::string&, Model<3>&);
+extern template RunProgress decode_checkpoint<2>(std::string_view, const std::string&, Model<2>&, bool);
+extern template RunProgress decode_checkpoint<3>(std::string_view, const std::string&, Model<3>&, bool);
+
+}  // namespace tsuchi

@@ -1,0 +1,292 @@
+// Checkpoints and restarts (issue 6): a run stopped at step K and restarted from its checkpoint
+// ends bitwise where the uninterrupted run ends (particles, stresses, CSVs, frames), for an
+// elastic case and a reduced Mohr-Coulomb triaxial case; a checkpoint of another input, another
+// dimension, or a damaged file is refused with a clear message and nothing written. Faults end the
+// run with their own exit code and a message saying what, where and what to try.
+#include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/checkpoint.hpp"
+#include "tsuchi/io/config_reader.hpp"
+#include "tsuchi/model/model.hpp"
+#include "tsuchi/solver/explicit_step.hpp"
+
+#include "test_support.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <map>
+#include <regex>
+
+namespace {
+
+using namespace tsuchi;
+using namespace tsuchi::test;
+
+std::string read_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// Every regular file of a directory by name, with its bytes.
+std::map<std::string, std::string> snapshot(const fs::path& dir) {
+  std::map<std::string, std::string> files;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.is_regular_file()) files[e.path().filename().string()] = read_bytes(e.path());
+  return files;
+}
+
+const char* elastic_input = R"([model]
+dimension = 2
+gravity = [0.0, -9.81]
+
+[grid]
+extent = [0.4, 1.0]
+cell_size = 0.05
+
+[[materials]]
+name = "soil"
+model = "linear_elastic"
+density = 1800.0
+youngs_modulus = 2.0e6
+poisson_ratio = 0.3
+
+[[bodies]]
+name = "column"
+material = "soil"
+min = [0.1, 0.0]
+max = [0.3, 0.6]
+particles_per_cell = [2, 2]
+velocity = [0.3, 0.0]
+
+[boundary]
+y_min = "fixed"
+x_min = "roller"
+x_max = "roller"
+
+[solver]
+damping = 0.02
+
+[time]
+end = 10.0
+courant = 0.4
+
+[output]
+interval = 0.02
+fields = ["displacement", "velocity", "stress", "strain", "volume"]
+
+[[recorders]]
+name = "top_v"
+min = [0.0, 0.55]
+quantity = "displacement_y"
+)";
+
+struct Case {
+  std::string input;  // file
+  std::vector<std::string> sets;
+};
+
+std::string args(const Case& c, const fs::path& out, std::int64_t max_steps, std::int64_t every) {
+  std::string a = "run -q " + quoted(fs::path(c.input)) + " -o " + quoted(out);
+  for (const auto& s : c.sets) a += " --set " + s;
+  a += " --set time.max_steps=" + std::to_string(max_steps) + " --set checkpoint.every_steps=" + std::to_string(every);
+  return a;
+}
+
+// Runs to `total` steps in one go, and to `split` then on from its checkpoint to `total`; the two
+// output directories must be identical file by file, the final checkpoints included.
+void expect_bitwise_restart(const Case& c, const TempDir& tmp, std::int64_t split, std::int64_t total) {
+  const fs::path whole = tmp.path / "whole", parts = tmp.path / "parts";
+  const ProgramResult a = run_program(args(c, whole, total, split));
+  ASSERT_EQ(a.status, exit_code::ok) << a.output;
+  const ProgramResult b = run_program(args(c, parts, split, split));
+  ASSERT_EQ(b.status, exit_code::ok) << b.output;
+  const fs::path ck = parts / "checkpoint.tsuchi";
+  ASSERT_TRUE(fs::exists(ck)) << b.output;
+  const std::string ck_copy = read_bytes(ck);
+  const ProgramResult r = run_program(args(c, parts, total, split) + " --restart " + quoted(ck));
+  ASSERT_EQ(r.status, exit_code::ok) << r.output;
+
+  const auto x = snapshot(whole), y = snapshot(parts);
+  ASSERT_GT(x.size(), 4u);
+  for (const auto& [name, bytes] : x) {
+    ASSERT_TRUE(y.count(name)) << name << " is missing after the restart";
+    EXPECT_TRUE(y.at(name) == bytes) << name << " differs after the restart";
+  }
+  EXPECT_EQ(x.size(), y.size());
+  EXPECT_NE(ck_copy, x.at("checkpoint.tsuchi")) << "the comparison is of a later state than the split";
+}
+
+TEST(Restart, ElasticRunContinuesBitwise) {
+  TempDir tmp("tsuchi_restart");
+  write_file(tmp.path / "column.toml", elastic_input);
+  expect_bitwise_restart({(tmp.path / "column.toml").string(), {}}, tmp, 137, 400);
+}
+
+TEST(Restart, MohrCoulombTriaxialContinuesBitwise) {
+  TempDir tmp("tsuchi_restart");
+  // The triaxial test 1 with the cap fixed on a 5 mm grid, frames every 50 steps or so; the split
+  // falls while the specimen is yielding.
+  const Case c{std::string(TSUCHI_SOURCE_DIR) + "/examples/triaxial/test1_fixed.toml",
+               {"grid.cell_size=0.005", "recorders.1.max=[1.0,0.0025]", "recorders.2.max=[1.0,0.0025]",
+                "output.interval=0.05", "output.global_interval=0"}};
+  expect_bitwise_restart(c, tmp, 900, 1500);
+  const std::string rec = read_bytes(tmp.path / "parts" / "recorders.csv");
+  EXPECT_NE(rec.find(",1500,"), std::string::npos) << "the restarted run reaches step 1500";
+}
+
+class RefusedRestart : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    write_file(tmp.path / "column.toml", elastic_input);
+    const ProgramResult r = run_program(args(c, out, 20, 10));
+    ASSERT_EQ(r.status, exit_code::ok) << r.output;
+    before = snapshot(out);
+  }
+  // The restart is refused with exit code 2 and every piece of `expected` in the message, and the
+  // output directory is left exactly as it was.
+  void expect_refused(const std::string& extra, const std::vector<std::string>& expected) {
+    const ProgramResult r = run_program(args(c, out, 40, 10) + " " + extra);
+    EXPECT_EQ(r.status, exit_code::input) << r.output;
+    expect_message(r.output, expected);
+    EXPECT_TRUE(snapshot(out) == before) << "a refused restart changed the output directory";
+  }
+  TempDir tmp{"tsuchi_restart"};
+  Case c{(tmp.path / "column.toml").string(), {}};
+  fs::path out = tmp.path / "out";
+  fs::path ck = out / "checkpoint.tsuchi";
+  std::map<std::string, std::string> before;
+};
+
+TEST_F(RefusedRestart, OtherInput) {
+  expect_refused("--set materials.0.youngs_modulus=3e6 --restart " + quoted(ck),
+                 {ck.string(), "written for another input"});
+}
+
+TEST_F(RefusedRestart, OtherDimension) {
+  const std::string text = replace(replace(replace(replace(elastic_input, "dimension = 2", "dimension = 3"),
+                                                   "[0.0, -9.81]", "[0.0, -9.81, 0.0]"),
+                                           "[0.4, 1.0]", "[0.4, 1.0, 0.1]"),
+                                   "particles_per_cell = [2, 2]", "particles_per_cell = [2, 2, 2]");
+  write_file(tmp.path / "column3.toml",
+             replace(replace(replace(text, "min = [0.1, 0.0]", "min = [0.1, 0.0, 0.0]"), "max = [0.3, 0.6]",
+                             "max = [0.3, 0.6, 0.1]"),
+                     "velocity = [0.3, 0.0]", "velocity = [0.3, 0.0, 0.0]"));
+  c.input = (tmp.path / "column3.toml").string();
+  c.sets = {"recorders.0.min=[0.0,0.55,0.0]"};
+  expect_refused("--restart " + quoted(ck), {ck.string(), "holds a 2D model, the input is 3D"});
+}
+
+TEST_F(RefusedRestart, DamagedFile) {
+  std::string bytes = read_bytes(ck);
+  bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x10);
+  write_file(tmp.path / "damaged.tsuchi", bytes);
+  expect_refused("--restart " + quoted(tmp.path / "damaged.tsuchi"), {"damaged.tsuchi", "checksum does not match"});
+  write_file(tmp.path / "short.tsuchi", read_bytes(ck).substr(0, 1000));
+  expect_refused("--restart " + quoted(tmp.path / "short.tsuchi"), {"short.tsuchi", "checksum does not match"});
+  write_file(tmp.path / "text.tsuchi", elastic_input);
+  expect_refused("--restart " + quoted(tmp.path / "text.tsuchi"), {"text.tsuchi", "does not start like a tsuchi checkpoint"});
+  expect_refused("--restart " + quoted(tmp.path / "none.tsuchi"), {"none.tsuchi", "cannot open the checkpoint"});
+}
+
+TEST_F(RefusedRestart, AllowedChangesAreAccepted) {
+  // The end time, step limit, time step choice and output settings may change on a restart.
+  const ProgramResult r = run_program(args(c, out, 40, 10) + " --set time.courant=0.3 --set output.interval=0.05 --restart " + quoted(ck));
+  EXPECT_EQ(r.status, exit_code::ok) << r.output;
+}
+
+// The decoder itself: a checkpoint round-trips every particle array exactly.
+TEST(Checkpoint, RoundTripsEveryParticleArray) {
+  TempDir tmp("tsuchi_checkpoint");
+  Model<2> m = build_model<2>(read_config_string(elastic_input, "column.toml"));
+  for (std::size_t i = 0; i < m.particles.size(); ++i) {
+    const double s = static_cast<double>(i);
+    m.particles.sigma_p[i] << -1e3 * s, 2.5 * s, 1.0 / (1.0 + s), 1e-7 * s;
+    m.particles.plastic_shear_p[i] = 1e-3 * s;
+    m.particles.yield_p[i] = static_cast<std::uint8_t>(i % 3);
+  }
+  RunProgress r;
+  r.time = 0.125, r.steps = 77, r.dt = 1.5e-4, r.frame_index = 3, r.row_index = 9;
+  r.output.frames = {{0.0, "particles_000000.vtu"}, {0.02, "particles_000001.vtu"}};
+  r.output.global_csv = "time,step\n0,0\n";
+  write_checkpoint<2>((tmp.path / "c.tsuchi").string(), m, r);
+  Model<2> fresh = build_model<2>(read_config_string(elastic_input, "column.toml"));
+  const RunProgress back = read_checkpoint<2>((tmp.path / "c.tsuchi").string(), fresh);
+  EXPECT_EQ(back.time, r.time);
+  EXPECT_EQ(back.steps, r.steps);
+  EXPECT_EQ(back.frame_index, r.frame_index);
+  EXPECT_EQ(back.output.frames, r.output.frames);
+  EXPECT_EQ(back.output.global_csv, r.output.global_csv);
+  std::size_t arrays = 0;
+  m.particles.for_each_array([&](const char* name, const auto& a) {
+    fresh.particles.for_each_array([&](const char* other, const auto& b) {
+      if constexpr (std::is_same_v<decltype(a), decltype(b)>)
+        if (std::string(name) == other) {
+          ++arrays;
+          EXPECT_TRUE(a == b) << name;
+        }
+    });
+  });
+  EXPECT_EQ(arrays, 17u);
+}
+
+// Faults stop the step with their own kind and name the particle, its body and position.
+TEST(Faults, NonFiniteStressIsNamed) {
+  Model<2> m = build_model<2>(read_config_string(elastic_input, "column.toml"));
+  const std::size_t i = m.particles.size() / 2;
+  m.particles.sigma_p[i][0] = std::numeric_limits<double>::quiet_NaN();
+  ExplicitSolver<2> solver(m);
+  try {
+    solver.step(1e-4);
+    ADD_FAILURE() << "a NaN stress went unnoticed";
+  } catch (const RunError& e) {
+    EXPECT_EQ(e.fault, Fault::NonFinite);
+    // The NaN reaches the neighbours through the grid in the same step; the lowest index is named.
+    EXPECT_TRUE(std::regex_search(e.what(), std::regex("^step 1 \\(t = 0 s\\): particle [0-9]+ of body \"column\" at \\([-0-9.e]+, [-0-9.e]+\\)")))
+        << e.what();
+    expect_message(e.what(), {"non-finite", "time.courant"});
+    EXPECT_EQ(exit_code::of(e.fault), exit_code::non_finite);
+  }
+}
+
+TEST(Faults, VolumeCollapseIsNamed) {
+  Model<2> m = build_model<2>(read_config_string(elastic_input, "column.toml"));
+  // Every particle heading for the column's axis at 100 m/s: one step of 1 ms crushes the cells.
+  for (std::size_t i = 0; i < m.particles.size(); ++i) m.particles.v_p[i] = Vec<2>(m.particles.x_p[i][0] < 0.2 ? 100.0 : -100.0, 0.0);
+  ExplicitSolver<2> solver(m);
+  try {
+    solver.step(1e-3);
+    ADD_FAILURE() << "a collapsed particle went unnoticed";
+  } catch (const RunError& e) {
+    EXPECT_EQ(e.fault, Fault::VolumeCollapse) << e.what();
+    expect_message(e.what(), {"zero or negative volume", "of body \"column\""});
+  }
+}
+
+TEST(Faults, UnstableFixedStepSavesTheLastGoodState) {
+  TempDir tmp("tsuchi_faults");
+  // A soft column in free fall with a fixed dt just below the initial stable limit: the growing
+  // speed lowers the limit below dt after a few steps.
+  std::string text = replace(elastic_input, "courant = 0.4", "dt = 0.012");
+  text = replace(text, "youngs_modulus = 2.0e6", "youngs_modulus = 1.0e4");
+  text = replace(text, "y_min = \"fixed\"", "y_min = \"free\"");
+  text = replace(text, "min = [0.1, 0.0]", "min = [0.1, 0.3]");
+  text = replace(text, "max = [0.3, 0.6]", "max = [0.3, 0.9]");
+  text = replace(text, "gravity = [0.0, -9.81]", "gravity = [0.0, -30.0]");
+  write_file(tmp.path / "fall.toml", text);
+  const fs::path out = tmp.path / "out";
+  const ProgramResult r = run_program("run -q " + quoted(tmp.path / "fall.toml") + " -o " + quoted(out) +
+                                      " --set checkpoint.every_steps=1000");
+  EXPECT_EQ(r.status, exit_code::unstable_step) << r.output;
+  expect_message(r.output, {"above the stable limit", "time.courant", "latest checkpoint is step",
+                            (out / "checkpoint.tsuchi").string()});
+  EXPECT_TRUE(fs::exists(out / "checkpoint.tsuchi"));
+  // The saved state restarts with a smaller step.
+  const ProgramResult again = run_program("run -q " + quoted(tmp.path / "fall.toml") + " -o " + quoted(out) +
+                                          " --set time.dt=0.002 --set time.max_steps=50 --restart " +
+                                          quoted(out / "checkpoint.tsuchi"));
+  EXPECT_EQ(again.status, exit_code::ok) << again.output;
+}
+
+}  // namespace

@@ -9,6 +9,7 @@ usage: kill_test.py TSUCHI_BINARY
 import os
 import random
 import re
+import resource
 import shutil
 import signal
 import struct
@@ -193,6 +194,18 @@ def main():
         out, _ = p.communicate()
         check(p.returncode == 0, f"restart after SIGTERM failed: {out}")
         same_files(ref, d, "after SIGTERM")
+
+        # A full disk, played by a file-size limit that the frames fit under and the checkpoint does not.
+        d = os.path.join(tmp, "full")
+        limit = 150 * 4800
+        p = run(binary, inp, d, "--set", 'output.fields=["displacement"]',
+                preexec_fn=lambda: resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit)))
+        out, _ = p.communicate()
+        check(p.returncode == 4, f"a full disk gave exit code {p.returncode}: {out}")
+        check(re.search(r"step 50 \(t = [^)]*\): cannot write .*checkpoint.tsuchi \(\d+ bytes\): File too large", out)
+              is not None, f"the message does not say what and where: {out}")
+        check_directory(d, "after the write failure")
+        check(os.path.exists(os.path.join(d, "particles_000001.vtu")), "the frames before the failure are gone")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     if failures:

@@ -177,6 +177,16 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
     throw RunError(fmt::format("{}\nthe latest checkpoint is step {}: {} (tsuchi run ... --restart {})", e.what(),
                                saved.first, saved.second, saved.second),
                    e.fault);
+  } catch (const OutputError& e) {
+    try {
+      if (out) out->flush_global();  // the CSVs are small: they may still fit where a frame did not
+    } catch (const OutputError&) {
+    }
+    throw OutputError(fmt::format("step {} (t = {:.6g} s): {}; the files written before are complete{}", solver.steps(),
+                                  solver.time(), e.what(),
+                                  saved.first < 0 ? std::string{}
+                                                  : fmt::format(", and the latest checkpoint is step {}: {}",
+                                                                saved.first, saved.second)));
   } catch (...) {
     if (out) out->flush_global();
     throw;

@@ -240,9 +240,10 @@ TEST(Geomaterial, PlaneStrainCompressionThroughTheSolverReachesMohrCoulombStreng
     Model<2> m = build_model<2>(config(text, {fmt::format("materials.0.shear_modulus={}", G[t]),
                                               fmt::format("bodies.0.initial_stress.isotropic={}", -P[t])}));
     const auto& p = m.particles;
-    std::vector<std::size_t> inner;
+    std::vector<char> inner(p.size(), 0);  // by id: the solver reorders particles in memory
+    std::size_t n_inner = 0;
     for (std::size_t i = 0; i < p.size(); ++i)
-      if (p.x_p[i][1] < 0.095) inner.push_back(i);
+      if (p.x_p[i][1] < 0.095) inner[p.id_p[i]] = 1, ++n_inner;
     double q_peak = 0.0, q_end = 0.0, sxx_err = 0.0;
     run_simulation<2>(m, no_output(), [&](const ExplicitSolver<2>&) {
       double syy = 0.0, sxx = 0.0;
@@ -262,11 +263,12 @@ TEST(Geomaterial, PlaneStrainCompressionThroughTheSolverReachesMohrCoulombStreng
     EXPECT_LT(sxx_err, 0.01 * P[t]);
     double plastic_volume = 0.0;
     std::size_t shear = 0;
-    for (auto i : inner) {
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (!inner[p.id_p[i]]) continue;
       plastic_volume = std::max(plastic_volume, std::abs(p.plastic_volume_p[i]));
       shear += p.yield_p[i] == static_cast<std::uint8_t>(YieldMode::Shear);
     }
     EXPECT_LT(plastic_volume, 1e-12) << "psi = 0";
-    EXPECT_EQ(shear, inner.size()) << "every particle flows in shear at 15 % strain";
+    EXPECT_EQ(shear, n_inner) << "every particle flows in shear at 15 % strain";
   }
 }

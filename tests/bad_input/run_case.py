@@ -12,8 +12,9 @@ carry a comment (an empty or binary file), in CASE.expect beside it; both are re
     # args: --set time.end=-1     extra arguments after the file (split as a shell would)
 
 The program runs in a fresh empty directory as `tsuchi run CASE -q -o DIR/out`. Besides the exit
-code and the texts, the output must name the case file, and the directory must still be empty
-afterwards: a refused input writes nothing. On failure the whole program output is printed.
+code and the texts, the output of an input error (exit 2) must name the case file, and the
+directory must still be empty afterwards: a refused input writes nothing, not even the output
+directory. On failure the whole program output is printed.
 """
 import os
 import shlex
@@ -75,7 +76,9 @@ def main():
             problems.append("the program did not end within 120 s")
         if code is not None and code != exp["exit"]:
             problems.append(f"exit code {code}, expected {exp['exit']}")
-        for text in [os.path.basename(case)] + exp["texts"]:
+        # An input error names the input file; an output error names the path it could not write.
+        name = [os.path.basename(case)] if exp["exit"] == 2 else []
+        for text in name + exp["texts"]:
             if text not in output:
                 problems.append(f"the output does not contain {text!r}")
         left = sorted(os.path.relpath(os.path.join(d, n), tmp)

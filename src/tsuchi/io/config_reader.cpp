@@ -69,13 +69,24 @@ void read_grid(Section& s, Config& c) {
     if (rounded > 1e7) s.fail("cell_size", fmt::format("{:.3g} cells along {} is more than this program handles", n, axis_name[d]));
     g.cells[d] = static_cast<int>(rounded);
   }
+  double nodes = 1;
+  for (int d = 0; d < dim; ++d) nodes *= g.cells[d] + 1.0;
+  if (nodes > 2e9)
+    s.fail("cell_size", fmt::format("expected a grid of at most 2e9 nodes, got {:.3g} nodes of {} m", nodes, g.cell_size));
   s.finish();
+}
+
+// A z key in a 2D model is not a typo of x or y: the user has a 3D model in mind.
+void refuse_z_in_2d(const Section& s, std::string_view key, int dim) {
+  if (dim == 2 && s.has(key))
+    s.fail(key, "expected a key of the x or y axis: model.dimension is 2 (plane strain), which has no z axis");
 }
 
 void read_velocity_components(Section& s, std::string_view key, int dim, BodyConfig& b) {
   const toml::table* t = s.table(key);
   if (!t) return;
   Section v(*t, s.key_path(key), s.file());
+  refuse_z_in_2d(v, "z", dim);
   for (int d = 0; d < dim; ++d) {
     if (!v.has(axis_name[d])) continue;
     b.prescribed[d] = true;
@@ -212,8 +223,10 @@ void read_body(Section& s, Config& c, std::size_t index) {
       b.particles_per_cell.fill(static_cast<int>(i->get()));
     } else if (auto a = n->as_array(); a && static_cast<int>(a->size()) == dim) {
       for (int d = 0; d < dim; ++d) {
-        auto e = a->get(static_cast<std::size_t>(d))->as_integer();
-        if (!e || !valid(e->get())) s.fail("particles_per_cell", fmt::format("expected {}", expected));
+        const toml::node& n_d = *a->get(static_cast<std::size_t>(d));
+        auto e = n_d.as_integer();
+        if (!e || !valid(e->get()))
+          s.fail("particles_per_cell", fmt::format("expected {}, got {} in entry {}", expected, describe(n_d), d + 1));
         b.particles_per_cell[d] = static_cast<int>(e->get());
       }
     } else {
@@ -224,6 +237,7 @@ void read_body(Section& s, Config& c, std::size_t index) {
   read_velocity_components(s, "prescribed_velocity", dim, b);
   if (const toml::table* t = s.table("prescribed_velocity_gradient")) {
     Section g(*t, s.key_path("prescribed_velocity_gradient"), s.file());
+    refuse_z_in_2d(g, "z", dim);
     for (int d = 0; d < dim; ++d) {
       if (!g.has(axis_name[d])) continue;
       if (!b.prescribed[d])
@@ -247,6 +261,7 @@ void read_body(Section& s, Config& c, std::size_t index) {
 
 void read_boundary(Section& s, Config& c) {
   const std::vector<std::string> kinds{"free", "roller", "fixed"};
+  for (const char* k : {"z_min", "z_max"}) refuse_z_in_2d(s, k, c.dimension);
   for (int d = 0; d < c.dimension; ++d)
     for (int side = 0; side < 2; ++side) {
       const std::string key = fmt::format("{}_{}", axis_name[d], side == 0 ? "min" : "max");

@@ -1,5 +1,6 @@
 #include "tsuchi/io/toml_section.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -48,6 +49,13 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
 }  // namespace
 
 toml::table parse_toml(const std::string& text, const std::string& file, const std::vector<std::string>& overrides) {
+  // toml++ would name the first byte it cannot decode, which tells the user of a binary file
+  // (a results file, an executable given by mistake) nothing.
+  if (const auto nul = text.find('\0'); nul != std::string::npos) {
+    const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(nul), '\n');
+    throw InputError(fmt::format("{}:{}: not a text file (byte {} is NUL); expected a TOML input file", file,
+                                 line, nul + 1));
+  }
   toml::table root;
   try {
     root = toml::parse(std::string_view(text), std::string_view(file));

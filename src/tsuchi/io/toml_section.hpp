@@ -81,8 +81,8 @@ class Section {
   const toml::node& need(std::string_view key, const std::string& expected) {
     const toml::node* n = get(key);
     if (!n) {
-      throw InputError(fmt::format("{}: missing key '{}': expected {}", where(file_, t_.source()),
-                                   key_path(key), expected));
+      throw InputError(fmt::format("{}: missing key '{}': expected {}{}", where(file_, t_.source()),
+                                   key_path(key), expected, misspelt(key)));
     }
     return *n;
   }
@@ -224,6 +224,16 @@ class Section {
   const toml::table& raw() const { return t_; }
 
  private:
+  // A required key is read before finish() looks for unknown ones, so a typo of it would be reported
+  // as missing while the user sees it in the file: point at the near miss. Only one letter off:
+  // a sibling that has not been read yet ('max' while 'min' is missing) is not a typo.
+  std::string misspelt(std::string_view key) const {
+    for (auto&& [k, v] : t_)
+      if (!used_.count(std::string(k.str())) && edit_distance(k.str(), key) <= 1)
+        return fmt::format(" (did you misspell it as '{}' at {}?)", key_path(k.str()), where(file_, k.source()));
+    return {};
+  }
+
   std::string hint(std::string_view k) const {
     // Suggest a known key that differs only slightly (a typo).
     std::string best;

@@ -79,6 +79,9 @@ struct SolverConfig {
   double pic_fraction = 0.0;       // 0 = pure FLIP, 1 = pure PIC
   double damping = 0.0;            // Cundall local damping coefficient alpha, eq (20)
   double mass_threshold = 1e-9;    // nodes lighter than this fraction of the lightest particle are skipped
+  // Particles are re-stored in block order every this many steps (0: never), so that neighbours
+  // in space stay neighbours in memory as the material flows.
+  std::int64_t sort_interval = 100;
 };
 
 struct TimeConfig {

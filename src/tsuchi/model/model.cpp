@@ -118,6 +118,7 @@ void add_body(const Config& c, int body, Model<D>& m) {
   Vec<D> spacing;
   std::array<int, D> first{}, count{};
   std::size_t total = 1;
+  int empty_axis = -1;
   for (int d = 0; d < D; ++d) {
     spacing[d] = m.grid.h / b.particles_per_cell[d];
     // Lattice points origin + (j + 1/2) spacing in [min, max) (a box aligned with the lattice
@@ -128,11 +129,17 @@ void add_body(const Config& c, int body, Model<D>& m) {
     const int last = static_cast<int>(std::floor(hi - 1e-9));
     count[d] = std::max(0, last - first[d] + 1);
     total *= static_cast<std::size_t>(count[d]);
+    if (count[d] == 0 && empty_axis < 0) empty_axis = d;
   }
-  if (total == 0)
-    throw InputError(fmt::format("{}: body \"{}\" holds no particle: the box is thinner than the "
-                                 "particle spacing (cell_size / particles_per_cell)",
-                                 c.source, b.name));
+  if (total == 0) {
+    constexpr const char* axis[3] = {"x", "y", "z"};
+    const int d = empty_axis;
+    throw InputError(fmt::format(
+        "{}: key 'bodies.{}': body \"{}\" holds no particle: along {} no particle position (grid.origin + "
+        "(j + 1/2) * {:.6g} m, the spacing cell_size / particles_per_cell) lies in [{:.6g}, {:.6g}); expected a "
+        "box at least one particle spacing thick",
+        c.source, body, b.name, axis[d], spacing[d], b.min[d], b.max[d]));
+  }
   double volume = 1.0;
   for (int d = 0; d < D; ++d) volume *= spacing[d];
 

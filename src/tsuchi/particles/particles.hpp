@@ -2,7 +2,9 @@
 // Material points as a structure of flat arrays, one array per field.
 #include "tsuchi/core/tensor.hpp"
 
+#include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <type_traits>
 #include <vector>
 
@@ -57,13 +59,22 @@ struct Particles {
   }
 
   // Reorders every array: particle k of the result is particle order[k] of this one. Ids move
-  // with their particles, so outputs keyed by id are unchanged.
+  // with their particles, so outputs keyed by id are unchanged. `scratch` keeps its storage between
+  // calls, so a periodic reordering allocates only the first time.
   template <class Index>
-  void permute(const std::vector<Index>& order) {
+  void permute(const std::vector<Index>& order, std::vector<unsigned char>& scratch) {
     for_each_array([&](const char*, auto& a) {
-      auto copy = a;
+      using T = typename std::decay_t<decltype(a)>::value_type;
+      scratch.resize(std::max(scratch.size(), a.size() * sizeof(T)));
+      std::memcpy(scratch.data(), static_cast<const void*>(a.data()), a.size() * sizeof(T));
+      const auto* copy = reinterpret_cast<const T*>(scratch.data());
       for (std::size_t k = 0; k < order.size(); ++k) a[k] = copy[static_cast<std::size_t>(order[k])];
     });
+  }
+  template <class Index>
+  void permute(const std::vector<Index>& order) {
+    std::vector<unsigned char> scratch;
+    permute(order, scratch);
   }
 
   static constexpr std::size_t bytes_per_particle() {

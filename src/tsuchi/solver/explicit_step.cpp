@@ -31,6 +31,13 @@ template <class Kernel>
 void ExplicitSolver<D>::step_with(double dt) {
   auto& g = m_.grid;
   schedule_.build(g, m_.particles.x_p);  // every stage below uses the start-of-step positions
+  const std::int64_t sort = m_.config.solver.sort_interval;
+  if (sort > 0 && steps_ > 0 && steps_ % sort == 0) {
+    // The order depends on positions only, so every thread count sorts alike, and a restart at
+    // the same step sorts alike.
+    m_.particles.permute(schedule_.order(), sort_scratch_);
+    schedule_.build(g, m_.particles.x_p);
+  }
   switch (m_.config.solver.scheme) {
     case Scheme::USF:
       // The GIMP domain update waits until the end of the step: the later stages must use the

@@ -60,6 +60,7 @@ Recorder<D>::Recorder(const RecorderConfig& config, const Model<D>& model) : c_(
   std::tie(kind_, component_) = parse(c_.quantity, D);
   if (kind_ < 0) throw InputError(fmt::format("recorder \"{}\": unknown quantity \"{}\"", c_.name, c_.quantity));
   const auto& p = model.particles;
+  member_.assign(p.size(), 0);
   for (std::size_t i = 0; i < p.size(); ++i) {
     if (c_.body >= 0 && p.body_p[i] != c_.body) continue;
     const Vec<D> x0 = p.x_p[i] - p.u_p[i];
@@ -68,9 +69,9 @@ Recorder<D>::Recorder(const RecorderConfig& config, const Model<D>& model) : c_(
       if (c_.min) inside = inside && x0[d] >= (*c_.min)[d];
       if (c_.max) inside = inside && x0[d] <= (*c_.max)[d];
     }
-    if (inside) set_.push_back(i);
+    if (inside) member_[static_cast<std::size_t>(p.id_p[i])] = 1, ++count_;
   }
-  if (set_.empty())
+  if (count_ == 0)
     throw InputError(fmt::format("{}: recorder \"{}\" selects no particle: no particle of {} starts inside its box",
                                  model.config.source, c_.name,
                                  c_.body >= 0 ? fmt::format("body \"{}\"", model.config.bodies[c_.body].name)
@@ -100,20 +101,24 @@ double Recorder<D>::particle_value(const Particles<D>& p, std::size_t i) const {
 
 template <int D>
 double Recorder<D>::value(const Particles<D>& p) const {
+  const auto in_set = [&](std::size_t i) { return member_[static_cast<std::size_t>(p.id_p[i])] != 0; };
   double r = 0.0;
   switch (c_.reduction) {
     case RecorderConfig::Reduction::Mean:
     case RecorderConfig::Reduction::Sum:
-      for (auto i : set_) r += particle_value(p, i);
-      if (c_.reduction == RecorderConfig::Reduction::Mean) r /= static_cast<double>(set_.size());
+      for (std::size_t i = 0; i < p.size(); ++i)
+        if (in_set(i)) r += particle_value(p, i);
+      if (c_.reduction == RecorderConfig::Reduction::Mean) r /= static_cast<double>(count_);
       break;
     case RecorderConfig::Reduction::Min:
       r = std::numeric_limits<double>::infinity();
-      for (auto i : set_) r = std::min(r, particle_value(p, i));
+      for (std::size_t i = 0; i < p.size(); ++i)
+        if (in_set(i)) r = std::min(r, particle_value(p, i));
       break;
     case RecorderConfig::Reduction::Max:
       r = -std::numeric_limits<double>::infinity();
-      for (auto i : set_) r = std::max(r, particle_value(p, i));
+      for (std::size_t i = 0; i < p.size(); ++i)
+        if (in_set(i)) r = std::max(r, particle_value(p, i));
       break;
   }
   return c_.scale * r + c_.offset;

@@ -21,7 +21,7 @@ class Recorder {
 
   double value(const Particles<D>& p) const;  // scale * reduction + offset
   const RecorderConfig& config() const { return c_; }
-  std::size_t size() const { return set_.size(); }
+  std::size_t size() const { return count_; }
   // Non-empty when the value has crossed its stop bound: says which and where.
   std::string stop_reason(double value) const;
 
@@ -29,7 +29,10 @@ class Recorder {
   double particle_value(const Particles<D>& p, std::size_t i) const;
 
   RecorderConfig c_;
-  std::vector<std::size_t> set_;
+  // Membership by particle id, not storage index: particles are reordered during a run (and a
+  // restart brings them back in the saved order), while ids stay with their particles.
+  std::vector<std::uint8_t> member_;
+  std::size_t count_ = 0;
   int kind_ = 0, component_ = 0;
 };
 

@@ -43,7 +43,7 @@ void print_summary(const Model<D>& m, const std::string& output_dir) {
   fmt::print("dimension  {}\n", D == 2 ? "2 (plane strain)" : "3");
   std::string cells;
   for (int d = 0; d < D; ++d) cells += fmt::format("{}{}", d ? " x " : "", c.grid.cells[d]);
-  fmt::print("grid       {} cells of {} m, {} nodes\n", cells, m.grid.h, m.grid.size());
+  fmt::print("grid       {} cells of {} m, {} nodes\n", cells, m.grid.h, m.grid.node_count());
   for (std::size_t b = 0; b < c.bodies.size(); ++b)
     fmt::print("body       {:<16} {:>9} particles, material \"{}\"\n", c.bodies[b].name, m.body_particles[b],
                c.bodies[b].material);

@@ -13,7 +13,14 @@ struct Grid {
   double h = 1.0;                       // cell size, the same on every axis
   std::array<int, D> n_nodes{};         // nodes per axis = cells + 1
 
-  // Nodal fields, index i + n_x (j + n_y k).
+  // Nodes are stored in tiles of T^D nodes (4 x 4 in 2D, 4 x 4 x 4 in 3D), tile after tile, and
+  // lexicographically inside a tile. A tile is the node set of one block of the particle schedule
+  // (solver/block_schedule.hpp), so a block's particles scatter mostly into one contiguous piece of
+  // memory, and a later split of the grid over processes can hand over whole tiles. The grid is
+  // padded to whole tiles; padding nodes never receive mass and are skipped by the solver.
+  static constexpr int T = 4;
+  static constexpr int kTileNodes = D == 2 ? T * T : T * T * T;
+
   std::vector<double> m_g;              // mass
   std::vector<Vec<D>> p_g;              // momentum
   std::vector<Vec<D>> f_g;              // internal + external force
@@ -22,25 +29,50 @@ struct Grid {
   std::vector<Vec<D>> vL_g;             // updated velocity v^L = v_g + dt a_g
   std::vector<std::uint8_t> fixed_g;    // bit d set: velocity component d held at zero
 
-  std::size_t size() const {
+  int tiles(int d) const { return (n_nodes[d] + T - 1) / T; }
+
+  std::size_t node_count() const {
     std::size_t n = 1;
     for (int d = 0; d < D; ++d) n *= static_cast<std::size_t>(n_nodes[d]);
     return n;
   }
 
+  // Storage slots, padding included.
+  std::size_t size() const {
+    std::size_t n = kTileNodes;
+    for (int d = 0; d < D; ++d) n *= static_cast<std::size_t>(tiles(d));
+    return n;
+  }
+
+  // The index is a sum of one term per axis, so a stencil computes K terms per axis, not K^D.
+  std::int64_t axis_offset(int d, int i) const {
+    std::int64_t tile_stride = kTileNodes, local_stride = 1;
+    for (int e = 0; e < d; ++e) tile_stride *= tiles(e), local_stride *= T;
+    return static_cast<std::int64_t>(i / T) * tile_stride + static_cast<std::int64_t>(i % T) * local_stride;
+  }
+
   std::int64_t index(const std::array<int, D>& ijk) const {
-    std::int64_t idx = ijk[D - 1];
-    for (int d = D - 2; d >= 0; --d) idx = idx * n_nodes[d] + ijk[d];
+    std::int64_t idx = 0;
+    for (int d = 0; d < D; ++d) idx += axis_offset(d, ijk[d]);
     return idx;
   }
 
   std::array<int, D> ijk(std::int64_t idx) const {
     std::array<int, D> r{};
+    std::int64_t local = idx % kTileNodes, tile = idx / kTileNodes;
     for (int d = 0; d < D; ++d) {
-      r[d] = static_cast<int>(idx % n_nodes[d]);
-      idx /= n_nodes[d];
+      r[d] = static_cast<int>((tile % tiles(d)) * T + local % T);
+      tile /= tiles(d), local /= T;
     }
     return r;
+  }
+
+  // False for the padding slots of the last tiles.
+  bool is_node(std::int64_t idx) const {
+    const auto r = ijk(idx);
+    for (int d = 0; d < D; ++d)
+      if (r[d] >= n_nodes[d]) return false;
+    return true;
   }
 
   Vec<D> position(const std::array<int, D>& ijk_) const {

@@ -228,9 +228,12 @@ class Section {
   // as missing while the user sees it in the file: point at the near miss. Only one letter off:
   // a sibling that has not been read yet ('max' while 'min' is missing) is not a typo.
   std::string misspelt(std::string_view key) const {
-    for (auto&& [k, v] : t_)
-      if (!used_.count(std::string(k.str())) && edit_distance(k.str(), key) <= 1)
-        return fmt::format(" (did you misspell it as '{}' at {}?)", key_path(k.str()), where(file_, k.source()));
+    for (auto&& [k, v] : t_) {
+      if (used_.count(std::string(k.str())) || edit_distance(k.str(), key) > 1) continue;
+      const auto line = k.source().begin.line;
+      return fmt::format(" (did you misspell it as '{}' {}?)", key_path(k.str()),
+                         line == 0 ? std::string("in a command-line override") : fmt::format("on line {}", line));
+    }
     return {};
   }
 

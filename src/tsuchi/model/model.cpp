@@ -22,6 +22,7 @@ void set_boundary_conditions(const Config& c, Grid<D>& g) {
   const std::size_t n = g.size();
   std::vector<std::size_t> set_nodes(c.boundary.node_sets.size(), 0);
   for (std::size_t idx = 0; idx < n; ++idx) {
+    if (!g.is_node(static_cast<std::int64_t>(idx))) continue;
     const auto ijk = g.ijk(static_cast<std::int64_t>(idx));
     std::uint8_t mask = 0;
     for (int d = 0; d < D; ++d)

@@ -21,7 +21,7 @@ struct Stencil {
 
   void compute(const Grid<D>& grid, const Vec<D>& x, const Vec<D>& lp) {
     std::array<std::array<double, K>, D> w, dw;
-    std::array<std::array<int, K>, D> idx;
+    std::array<std::array<std::int64_t, K>, D> off;  // per-axis terms of the node index
     for (int d = 0; d < D; ++d) {
       const double s = (x[d] - grid.origin[d]) / grid.h;
       const int i0 = Kernel::weights(s, grid.h, lp[d], w[d].data(), dw[d].data());
@@ -29,7 +29,7 @@ struct Stencil {
       for (int k = 0; k < K; ++k) {
         const int i = i0 + k;
         const bool inside = i >= 0 && i <= last;
-        idx[d][k] = inside ? i : (i < 0 ? 0 : last);
+        off[d][k] = grid.axis_offset(d, inside ? i : (i < 0 ? 0 : last));
         if (!inside) w[d][k] = dw[d][k] = 0.0;
       }
     }
@@ -37,7 +37,7 @@ struct Stencil {
     if constexpr (D == 2) {
       for (int b = 0; b < K; ++b)
         for (int a = 0; a < K; ++a, ++n) {
-          node[n] = idx[0][a] + std::int64_t{grid.n_nodes[0]} * idx[1][b];
+          node[n] = off[0][a] + off[1][b];
           S[n] = w[0][a] * w[1][b];
           G[n] = Vec<D>(dw[0][a] * w[1][b], w[0][a] * dw[1][b]);
         }
@@ -45,8 +45,7 @@ struct Stencil {
       for (int c = 0; c < K; ++c)
         for (int b = 0; b < K; ++b)
           for (int a = 0; a < K; ++a, ++n) {
-            node[n] = idx[0][a] + std::int64_t{grid.n_nodes[0]} *
-                                      (idx[1][b] + std::int64_t{grid.n_nodes[1]} * idx[2][c]);
+            node[n] = off[0][a] + off[1][b] + off[2][c];
             S[n] = w[0][a] * w[1][b] * w[2][c];
             G[n] = Vec<D>(dw[0][a] * w[1][b] * w[2][c], w[0][a] * dw[1][b] * w[2][c],
                           w[0][a] * w[1][b] * dw[2][c]);

@@ -4,7 +4,8 @@
 //     loading to 2 % axial strain so that particles are yielding;
 //   - an elastic block under gravity on a fixed floor (GIMP, MUSL) at 1e4, 1e5 and 1e6 particles
 //     in 2D, and 1e6 in 3D: the cost per particle-step should not grow with the size.
-// Usage: tsuchi-bench [--quick]   (quick: small cases, a smoke run of a few seconds)
+// Usage: tsuchi-bench [--quick | --triaxial]   (quick: small cases, a smoke run of a few seconds;
+// triaxial: only the triaxial case, for profiling)
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/solver/explicit_step.hpp"
 #include "tsuchi/solver/time_step.hpp"
@@ -118,6 +119,7 @@ void triaxial(int steps, const std::vector<int>& threads) {
 
 int main(int argc, char** argv) {
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
+  const bool only_triaxial = argc > 1 && std::strcmp(argv[1], "--triaxial") == 0;
   const int cores = omp_get_num_procs();
   std::vector<int> threads{1};
   if (cores > 1) threads.push_back(cores);
@@ -129,6 +131,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   triaxial(2000, threads);
+  if (only_triaxial) return 0;
   block<2>(50, 400, threads);    // 10,000 particles
   block<2>(158, 40, threads);    // 99,856 particles
   block<2>(500, 10, threads);    // 1,000,000 particles

@@ -12,7 +12,8 @@ namespace tsuchi {
 
 inline Eigen::Vector3d principal_values(const Voigt<2>& s) {
   const double c = 0.5 * (s[0] + s[1]);
-  const double r = std::hypot(0.5 * (s[0] - s[1]), s[3]);
+  const double hd = 0.5 * (s[0] - s[1]);
+  const double r = std::sqrt(hd * hd + s[3] * s[3]);  // not hypot: 5x slower, and no overflow at stress scales
   double v[3] = {c - r, c + r, s[2]};
   std::sort(v, v + 3);
   return {v[0], v[1], v[2]};

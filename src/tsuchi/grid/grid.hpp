@@ -45,10 +45,12 @@ struct Grid {
   }
 
   // The index is a sum of one term per axis, so a stencil computes K terms per axis, not K^D.
+  // i >= 0; T is a power of two, so the tile and the place in it are a shift and a mask.
   std::int64_t axis_offset(int d, int i) const {
     std::int64_t tile_stride = kTileNodes, local_stride = 1;
     for (int e = 0; e < d; ++e) tile_stride *= tiles(e), local_stride *= T;
-    return static_cast<std::int64_t>(i / T) * tile_stride + static_cast<std::int64_t>(i % T) * local_stride;
+    const auto u = static_cast<unsigned>(i);
+    return static_cast<std::int64_t>(u / T) * tile_stride + static_cast<std::int64_t>(u % T) * local_stride;
   }
 
   std::int64_t index(const std::array<int, D>& ijk) const {

@@ -2,6 +2,7 @@
 // GIMP shape function (Bardenhagen & Kober 2004): the linear hat integrated against the particle's
 // characteristic function of half-width l_p, eq (16)-(17), as corrected in METHOD.md section 2.
 // The table there is valid for l_p <= L/2, which the domain update keeps (see particle_domain.hpp).
+#include <algorithm>
 #include <cmath>
 
 namespace tsuchi::shape {
@@ -27,17 +28,32 @@ inline double gimp_dS(double xi, double L, double lp) {
 
 // Three nodes per axis: with l_p <= L/2 the support |xi| < L + l_p covers at most three nodes,
 // the nearest node and one on each side of it.
+//
+// The step evaluates these weights three times per particle, so they are computed without a
+// branch. With r = (x_p - x_mid) / L in [-1/2, 1/2) for the middle node and q = l_p / L, the outer
+// nodes' weights are g(q - r) (left) and g(q + r) (right), where
+//   g(t) = integral from 0 to t of clamp(tau / 2q, 0, 1) dtau
+//        = 0 (t <= 0),  t^2 / 4q (0 < t < 2q),  t - q (t >= 2q),
+// which is gimp_S above in the variable t = 1 + q - |xi| / L; the middle weight follows from the
+// partition of unity, 1 - left - right.
 struct GimpKernel {
   static constexpr int K = 3;
   static constexpr const char* name = "gimp";
 
   static inline int weights(double s, double L, double lp, double* w, double* dw) {
     const double c = std::floor(s - 0.5);  // node left of the nearest one
-    for (int k = 0; k < K; ++k) {
-      const double xi = (s - (c + k)) * L;
-      w[k] = gimp_S(xi, L, lp);
-      dw[k] = gimp_dS(xi, L, lp);
-    }
+    const double r = s - (c + 1.0);
+    const double q = std::max(lp / L, 1e-12);  // a zero width is the linear hat, reached continuously
+    const double tl = q - r, tr = q + r;
+    const double cl = std::clamp(tl, 0.0, 2.0 * q), cr = std::clamp(tr, 0.0, 2.0 * q);
+    const double inv4q = 0.25 / q;
+    w[0] = cl * cl * inv4q + std::max(tl - 2.0 * q, 0.0);
+    w[2] = cr * cr * inv4q + std::max(tr - 2.0 * q, 0.0);
+    w[1] = 1.0 - w[0] - w[2];
+    // dt/dx_p is -1/L on the left, +1/L on the right; g'(t) = clamp(t / 2q, 0, 1).
+    dw[0] = -2.0 * cl * inv4q / L;
+    dw[2] = 2.0 * cr * inv4q / L;
+    dw[1] = -dw[0] - dw[2];
     return static_cast<int>(c);
   }
 };

@@ -100,25 +100,35 @@ double Recorder<D>::particle_value(const Particles<D>& p, std::size_t i) const {
 }
 
 template <int D>
+const std::vector<std::size_t>& Recorder<D>::indices(const Particles<D>& p) const {
+  bool valid = index_.size() == count_;
+  for (std::size_t k = 0; valid && k < index_.size(); ++k)
+    valid = index_[k] < p.size() && p.id_p[index_[k]] == index_id_[k];
+  if (!valid) {
+    index_.clear(), index_id_.clear();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (member_[static_cast<std::size_t>(p.id_p[i])]) index_.push_back(i), index_id_.push_back(p.id_p[i]);
+  }
+  return index_;
+}
+
+template <int D>
 double Recorder<D>::value(const Particles<D>& p) const {
-  const auto in_set = [&](std::size_t i) { return member_[static_cast<std::size_t>(p.id_p[i])] != 0; };
+  const auto& set = indices(p);
   double r = 0.0;
   switch (c_.reduction) {
     case RecorderConfig::Reduction::Mean:
     case RecorderConfig::Reduction::Sum:
-      for (std::size_t i = 0; i < p.size(); ++i)
-        if (in_set(i)) r += particle_value(p, i);
+      for (auto i : set) r += particle_value(p, i);
       if (c_.reduction == RecorderConfig::Reduction::Mean) r /= static_cast<double>(count_);
       break;
     case RecorderConfig::Reduction::Min:
       r = std::numeric_limits<double>::infinity();
-      for (std::size_t i = 0; i < p.size(); ++i)
-        if (in_set(i)) r = std::min(r, particle_value(p, i));
+      for (auto i : set) r = std::min(r, particle_value(p, i));
       break;
     case RecorderConfig::Reduction::Max:
       r = -std::numeric_limits<double>::infinity();
-      for (std::size_t i = 0; i < p.size(); ++i)
-        if (in_set(i)) r = std::max(r, particle_value(p, i));
+      for (auto i : set) r = std::max(r, particle_value(p, i));
       break;
   }
   return c_.scale * r + c_.offset;

@@ -33,6 +33,11 @@ class Recorder {
   // restart brings them back in the saved order), while ids stay with their particles.
   std::vector<std::uint8_t> member_;
   std::size_t count_ = 0;
+  // Storage indices of the set and their ids, found again whenever the particles were reordered
+  // (a check of count_ ids per evaluation, a pass over all particles only after a reordering).
+  mutable std::vector<std::size_t> index_;
+  mutable std::vector<std::int32_t> index_id_;
+  const std::vector<std::size_t>& indices(const Particles<D>& p) const;
   int kind_ = 0, component_ = 0;
 };
 

@@ -293,6 +293,8 @@ void read_solver(Section& s, Config& c) {
   v.pic_fraction = s.number("pic_fraction", "a fraction in [0, 1]", [](double x) { return x >= 0 && x <= 1; }, 0.0);
   v.damping = s.number("damping", "a coefficient in [0, 1)", [](double x) { return x >= 0 && x < 1; }, 0.0);
   v.mass_threshold = s.number("mass_threshold", "a fraction in (0, 1)", [](double x) { return x > 0 && x < 1; }, 1e-9);
+  v.sort_interval = s.integer("sort_interval", "a non-negative whole number of steps", [](std::int64_t n) { return n >= 0; },
+                              v.sort_interval);
   s.finish();
 }
 

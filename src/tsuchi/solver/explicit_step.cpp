@@ -42,23 +42,23 @@ void ExplicitSolver<D>::step_with(double dt) {
     case Scheme::USF:
       // The GIMP domain update waits until the end of the step: the later stages must use the
       // same weights as the mass p2g, or momentum is not conserved.
-      p2g<Kernel>(true, false);
+      p2g<Kernel, true, false>();
       nodal_velocity();
       update_stress<Kernel>(dt, g.v_g, false);
-      p2g<Kernel>(false, true);
+      p2g<Kernel, false, true>();
       solve_grid(dt);
       g2p<Kernel>(dt, false, true);
       apply_deferred_domain_update();
       break;
     case Scheme::USL:
-      p2g<Kernel>(true, true);
+      p2g<Kernel, true, true>();
       nodal_velocity();
       solve_grid(dt);
       g2p<Kernel>(dt, false, false);
       update_stress<Kernel>(dt, g.vL_g, true);
       break;
     case Scheme::MUSL:
-      p2g<Kernel>(true, true);
+      p2g<Kernel, true, true>();
       nodal_velocity();
       solve_grid(dt);
       g2p<Kernel>(dt, true, false);
@@ -71,16 +71,18 @@ void ExplicitSolver<D>::step_with(double dt) {
 
 // Particle to grid, eqs (1)-(3): mass, momentum, and f_int = -sum V_p (sigma_p - sigma0_p) . G,
 // f_ext = sum S m_p b.
+// The stages are compile-time flags: the node loop is the hottest loop of the step and should
+// carry no test that is the same for every node.
 template <int D>
-template <class Kernel>
-void ExplicitSolver<D>::p2g(bool mass_momentum, bool force) {
+template <class Kernel, bool MassMomentum, bool Force>
+void ExplicitSolver<D>::p2g() {
   auto& g = m_.grid;
   const auto& p = m_.particles;
-  if (mass_momentum) {
+  if constexpr (MassMomentum) {
     std::fill(g.m_g.begin(), g.m_g.end(), 0.0);
     std::fill(g.p_g.begin(), g.p_g.end(), Vec<D>::Zero());
   }
-  if (force) std::fill(g.f_g.begin(), g.f_g.end(), Vec<D>::Zero());
+  if constexpr (Force) std::fill(g.f_g.begin(), g.f_g.end(), Vec<D>::Zero());
   Vec<D> b;
   for (int d = 0; d < D; ++d) b[d] = m_.config.gravity[d];
   schedule_.scatter([&](std::size_t i) {
@@ -88,17 +90,17 @@ void ExplicitSolver<D>::p2g(bool mass_momentum, bool force) {
     st.compute(g, p.x_p[i], p.l_p[i]);
     const double m = p.m_p[i];
     const Mat3 s = to_matrix<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i]));
-    const Mat<D> stress = s.template topLeftCorner<D, D>();
+    // -V sigma, so that the force is S m b + (-V sigma) G with one product per node.
+    const Mat<D> minus_V_stress = -p.V_p[i] * s.template topLeftCorner<D, D>();
     const Vec<D> mv = m * p.v_p[i];
     const Vec<D> mb = m * b;
-    const double V = p.V_p[i];
     for (int n = 0; n < st.N; ++n) {
       const auto k = st.node[n];
-      if (mass_momentum) {
+      if constexpr (MassMomentum) {
         g.m_g[k] += st.S[n] * m;
         g.p_g[k] += st.S[n] * mv;
       }
-      if (force) g.f_g[k] += st.S[n] * mb - V * (stress * st.G[n]);
+      if constexpr (Force) g.f_g[k] += st.S[n] * mb + minus_V_stress * st.G[n];
     }
   });
 }

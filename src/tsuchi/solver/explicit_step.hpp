@@ -33,7 +33,7 @@ class ExplicitSolver {
 
  private:
   template <class Kernel> void step_with(double dt);
-  template <class Kernel> void p2g(bool mass_momentum, bool force);
+  template <class Kernel, bool MassMomentum, bool Force> void p2g();
   void nodal_velocity();
   void solve_grid(double dt);
   template <class Kernel> void g2p(double dt, bool remap, bool move);

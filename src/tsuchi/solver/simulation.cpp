@@ -152,6 +152,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
       if (options.on_progress)
         options.on_progress({solver.steps(), now, end, dt, out ? out->frames_written() : 0});
       for (const auto& r : recorders) {
+        if (!r.config().stop_above && !r.config().stop_below) continue;  // evaluated on output rows only
         stopped_by = r.stop_reason(r.value(model.particles));
         if (!stopped_by.empty()) break;
       }

@@ -10,6 +10,8 @@ packages=(
   libmuparser-dev                  # formulas of position in input files (initial velocity)
   zlib1g-dev                       # CRC-32 of checkpoints
   libgtest-dev                     # tests
+  clang libclang-rt-14-dev         # fuzzing (scripts/fuzz.sh): clang, its libFuzzer and sanitizer runtimes
+  libomp-14-dev                    # clang's OpenMP runtime (gcc's ASan/UBSan come with build-essential)
   python3 python3-numpy python3-matplotlib  # plots of the examples
 )
 missing=()

@@ -15,6 +15,8 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
     throw InputError(fmt::format("{}: override '{}': expected key=value", file, assignment));
   std::string path = assignment.substr(0, eq);
   path.erase(path.find_last_not_of(" \t") + 1);
+  // Only blanks before the '=' (found by fuzzing: parts.back() below read past an empty list).
+  if (path.empty()) throw InputError(fmt::format("{}: override '{}': expected key=value", file, assignment));
   const std::string value = assignment.substr(eq + 1);
   toml::table parsed;
   try {

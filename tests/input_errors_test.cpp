@@ -318,6 +318,11 @@ TEST(InputErrors, OverrideNotKeyValue) {
   expect_message(msg, {"case.toml", "override", "grid.cell_size", "key=value"});
 }
 
+TEST(InputErrors, OverrideBlankKey) {
+  // Found by fuzzing: a key of blanks once read past the end of an empty key path.
+  for (const char* o : {" =1", "=1", "\t = 2"}) expect_message(input_error(kValid, {o}), {"case.toml", "override", "key=value"});
+}
+
 TEST(InputErrors, OverrideValueNotToml) {
   const std::string msg = input_error(kValid, {"time.end=abc"});
   expect_message(msg, {"case.toml", "override", "time.end=abc", "not valid TOML"});

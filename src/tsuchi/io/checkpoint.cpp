@@ -165,7 +165,9 @@ void check_particles(const Particles<D>& p, const Model<D>& model, const Decoder
     if (!(p.m_p[i] > 0.0) || !(p.V_p[i] > 0.0)) in.fail(fmt::format("particle {} has no mass or volume", i));
     if (p.yield_p[i] > 2) in.fail(fmt::format("particle {} has an unknown yield mode", i));
     for (int d = 0; d < D; ++d) {
-      if (!(p.l_p[i][d] >= 0.0)) in.fail(fmt::format("particle {} has a negative domain size", i));
+      // The domain update keeps 0 < l_p <= h/2 (particle_domain.hpp); the GIMP weights assume it.
+      if (!(p.l_p[i][d] > 0.0) || p.l_p[i][d] > 0.5 * model.grid.h * (1.0 + 1e-12))
+        in.fail(fmt::format("particle {} has a domain half-width outside (0, h/2]", i));
       if (p.x_p[i][d] < model.grid.origin[d] || p.x_p[i][d] > model.grid.upper()[d])
         in.fail(fmt::format("particle {} lies outside the grid", i));
     }

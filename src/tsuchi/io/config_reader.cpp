@@ -343,8 +343,47 @@ void read_checkpoint(Section& s, Config& c) {
   s.finish();
 }
 
-// FNV-1a over the canonical TOML text of the input without the keys a restart may change. toml++
-// keeps tables sorted by key, so the text does not depend on the order of keys in the file.
+// FNV-1a, 64 bit, fed with the input's values themselves rather than a printed form, so the
+// fingerprint does not depend on how a toml++ version formats numbers.
+struct Fnv {
+  std::uint64_t h = 1469598103934665603ull;
+  void bytes(const void* p, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) h = (h ^ static_cast<const unsigned char*>(p)[i]) * 1099511628211ull;
+  }
+  void text(std::string_view s) {
+    const std::uint64_t n = s.size();
+    bytes(&n, sizeof n);
+    bytes(s.data(), s.size());
+  }
+  void tag(char c) { bytes(&c, 1); }
+  void node(const toml::node& n) {
+    if (const auto* t = n.as_table()) {
+      tag('t');
+      for (const auto& [k, v] : *t) text(k.str()), node(v);  // toml++ keeps keys sorted
+      tag('}');
+    } else if (const auto* a = n.as_array()) {
+      tag('a');
+      for (const auto& v : *a) node(v);
+      tag(']');
+    } else if (const auto* i = n.as_integer()) {
+      const std::int64_t v = i->get();
+      tag('i'), bytes(&v, sizeof v);
+    } else if (const auto* f = n.as_floating_point()) {
+      const double v = f->get() == 0.0 ? 0.0 : f->get();  // -0.0 and 0.0 are the same input
+      tag('f'), bytes(&v, sizeof v);
+    } else if (const auto* b = n.as_boolean()) {
+      tag(b->get() ? '1' : '0');
+    } else if (const auto* str = n.as_string()) {
+      tag('s'), text(str->get());
+    } else {
+      std::ostringstream o;  // dates and times: not read by tsuchi, hashed as printed
+      n.visit([&](const auto& v) { o << v; });
+      tag('d'), text(o.str());
+    }
+  }
+};
+
+// The fingerprint of the input without the keys a restart may change.
 std::uint64_t fingerprint(const toml::table& root) {
   toml::table t = root;
   t.erase("output");
@@ -356,11 +395,9 @@ std::uint64_t fingerprint(const toml::table& root) {
   if (auto* recs = t.get_as<toml::array>("recorders"))
     for (auto& r : *recs)
       if (auto* rt = r.as_table()) rt->erase("stop_above"), rt->erase("stop_below");
-  std::ostringstream text;
-  text << toml::toml_formatter(t, toml::format_flags::none);
-  std::uint64_t h = 1469598103934665603ull;
-  for (const unsigned char ch : text.str()) h = (h ^ ch) * 1099511628211ull;
-  return h;
+  Fnv f;
+  f.node(t);
+  return f.h;
 }
 
 void read_recorder(Section& s, Config& c) {

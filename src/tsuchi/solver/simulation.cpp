@@ -59,7 +59,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   // Check the first step before anything is written: a refused dt leaves the directory untouched.
   double dt = next_time_step(tc, critical_time_step<D>(model.particles, model.config.materials, model.grid.h),
                              0, model.config.source);
-  if (options.restart) dt = start.dt;
+  if (options.restart && start.steps > 0) dt = start.dt;  // only for a final row; every later step recomputes it
 
   std::optional<OutputWriter<D>> out;
   if (options.write_output) {

@@ -72,8 +72,13 @@ Recorder<D>::Recorder(const RecorderConfig& config, const Model<D>& model) : c_(
     if (inside) member_[static_cast<std::size_t>(p.id_p[i])] = 1, ++count_;
   }
   if (count_ == 0)
-    throw InputError(fmt::format("{}: recorder \"{}\" selects no particle: no particle of {} starts inside its box",
-                                 model.config.source, c_.name,
+    throw InputError(fmt::format("{}: key 'recorders.{}': recorder \"{}\" selects no particle: no particle of {} starts "
+                                 "inside its box; expected a box (min, max) around some initial particle positions",
+                                 model.config.source,
+                                 std::find_if(model.config.recorders.begin(), model.config.recorders.end(),
+                                              [&](const RecorderConfig& r) { return r.name == c_.name; }) -
+                                     model.config.recorders.begin(),
+                                 c_.name,
                                  c_.body >= 0 ? fmt::format("body \"{}\"", model.config.bodies[c_.body].name)
                                               : std::string("any body")));
 }

@@ -40,10 +40,12 @@ struct GimpKernel {
   static constexpr int K = 3;
   static constexpr const char* name = "gimp";
 
-  static inline int weights(double s, double L, double lp, double* w, double* dw) {
+  // s = (x_p - origin) / L in cell units, inv_L = 1 / L (a product is cheaper than a division in
+  // the hottest function of the step); fills the first node index and K weights/derivatives.
+  static inline int weights(double s, double inv_L, double lp, double* w, double* dw) {
     const double c = std::floor(s - 0.5);  // node left of the nearest one
     const double r = s - (c + 1.0);
-    const double q = std::max(lp / L, 1e-12);  // a zero width is the linear hat, reached continuously
+    const double q = std::max(lp * inv_L, 1e-12);  // a zero width is the linear hat, reached continuously
     const double tl = q - r, tr = q + r;
     const double cl = std::clamp(tl, 0.0, 2.0 * q), cr = std::clamp(tr, 0.0, 2.0 * q);
     const double inv4q = 0.25 / q;
@@ -51,8 +53,8 @@ struct GimpKernel {
     w[2] = cr * cr * inv4q + std::max(tr - 2.0 * q, 0.0);
     w[1] = 1.0 - w[0] - w[2];
     // dt/dx_p is -1/L on the left, +1/L on the right; g'(t) = clamp(t / 2q, 0, 1).
-    dw[0] = -2.0 * cl * inv4q / L;
-    dw[2] = 2.0 * cr * inv4q / L;
+    dw[0] = -2.0 * cl * inv4q * inv_L;
+    dw[2] = 2.0 * cr * inv4q * inv_L;
     dw[1] = -dw[0] - dw[2];
     return static_cast<int>(c);
   }

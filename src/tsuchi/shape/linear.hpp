@@ -20,14 +20,15 @@ struct LinearKernel {
   static constexpr int K = 2;
   static constexpr const char* name = "linear";
 
-  // s = (x_p - origin) / L in cell units; fills the first node index and K weights/derivatives.
-  static inline int weights(double s, double L, double /*l_p*/, double* w, double* dw) {
+  // s = (x_p - origin) / L in cell units, inv_L = 1 / L; fills the first node index and K
+  // weights/derivatives.
+  static inline int weights(double s, double inv_L, double /*l_p*/, double* w, double* dw) {
     const double c = std::floor(s);
     const double f = s - c;  // position within the cell, in [0, 1)
     w[0] = 1.0 - f;
     w[1] = f;
-    dw[0] = -1.0 / L;
-    dw[1] = 1.0 / L;
+    dw[0] = -inv_L;
+    dw[1] = inv_L;
     return static_cast<int>(c);
   }
 };

@@ -71,6 +71,10 @@ class Encoder {
   std::string out_;
 };
 
+[[noreturn]] void refuse(const std::string& source, const std::string& what) {
+  throw InputError(fmt::format("{}: not a usable checkpoint: {}", source, what));
+}
+
 // Splits the sections once, then hands each out by name with its size checked, so a damaged or
 // hostile file can only ever produce an error.
 class Decoder {
@@ -121,25 +125,26 @@ class Decoder {
   }
   std::string text(const std::string& name) const { return std::string(section(name)); }
 
-  [[noreturn]] void fail(const std::string& what) const {
-    throw InputError(fmt::format("{}: not a usable checkpoint: {}", source_, what));
-  }
+  [[noreturn]] void fail(const std::string& what) const { refuse(source_, what); }
 
  private:
   std::string source_;
   std::map<std::string, std::string_view, std::less<>> sections_;
 };
 
-template <class T>
-bool all_finite(const std::vector<T>& a) {
-  for (const auto& v : a) {
+// Every array of real numbers, whichever fields Particles has; integer arrays are checked below.
+template <int D>
+bool all_finite(const Particles<D>& p) {
+  bool finite = true;
+  p.for_each_array([&](const char*, const auto& a) {
+    using T = typename std::decay_t<decltype(a)>::value_type;
     if constexpr (std::is_floating_point_v<T>) {
-      if (!std::isfinite(v)) return false;
-    } else {
-      if (!v.allFinite()) return false;
+      for (const double v : a) finite = finite && std::isfinite(v);
+    } else if constexpr (!std::is_integral_v<T>) {
+      for (const auto& v : a) finite = finite && v.allFinite();
     }
-  }
-  return true;
+  });
+  return finite;
 }
 
 // The particle state must make sense for the model it is loaded into; the checksum guards against
@@ -149,11 +154,7 @@ void check_particles(const Particles<D>& p, const Model<D>& model, const Decoder
   const std::size_t n = p.size();
   const auto nbodies = static_cast<std::int32_t>(model.config.bodies.size());
   const auto nmat = static_cast<std::int32_t>(model.config.materials.size());
-  if (!all_finite(p.x_p) || !all_finite(p.u_p) || !all_finite(p.v_p) || !all_finite(p.l_p) || !all_finite(p.m_p) ||
-      !all_finite(p.V_p) || !all_finite(p.sigma_p) || !all_finite(p.sigma0_p) || !all_finite(p.eps_p) ||
-      !all_finite(p.plastic_shear_p) || !all_finite(p.plastic_volume_p) || !all_finite(p.c_scale_p) ||
-      !all_finite(p.phi_scale_p))
-    in.fail("a particle value is not finite");
+  if (!all_finite(p)) in.fail("a particle value is not finite");
   std::vector<bool> seen(n, false);
   for (std::size_t i = 0; i < n; ++i) {
     if (p.body_p[i] < 0 || p.body_p[i] >= nbodies) in.fail(fmt::format("particle {} names body {}", i, p.body_p[i]));
@@ -205,9 +206,7 @@ void write_checkpoint(const std::string& path, const Model<D>& model, const RunP
 
 template <int D>
 RunProgress decode_checkpoint(std::string_view bytes, const std::string& source, Model<D>& model, bool verify_checksum) {
-  auto fail = [&](const std::string& what) -> void {
-    throw InputError(fmt::format("{}: not a usable checkpoint: {}", source, what));
-  };
+  const auto fail = [&](const std::string& what) { refuse(source, what); };
   if (bytes.size() < header_size + 4 || std::memcmp(bytes.data(), magic, sizeof magic) != 0)
     fail("it does not start like a tsuchi checkpoint");
   auto header = [&](std::size_t at, auto v) {

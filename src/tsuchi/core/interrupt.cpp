@@ -21,6 +21,4 @@ void install_interrupt_handlers() {
 
 int pending_interrupt() { return received; }
 
-void raise_interrupt(int signal) { received = signal; }
-
 }  // namespace tsuchi

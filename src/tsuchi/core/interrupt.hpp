@@ -8,7 +8,5 @@ namespace tsuchi {
 void install_interrupt_handlers();
 // The signal received since the handlers were installed, or 0.
 int pending_interrupt();
-// For tests: behave as if `signal` had arrived.
-void raise_interrupt(int signal);
 
 }  // namespace tsuchi

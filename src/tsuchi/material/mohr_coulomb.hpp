@@ -47,15 +47,41 @@ struct MohrCoulomb {
     double c, N_phi, sqrt_N_phi, N_psi, sigma_t, a_P, sigma_P;
   };
 
+  // What the strength of every point of a material shares: computed once per material group, so
+  // that a point's own friction angle phi (1 + d) costs no call to sin (see strength()).
+  struct Shared {
+    double sin_phi, cos_phi, N_psi;
+  };
+  Shared shared() const {
+    const double ss = std::sin(psi);
+    return {std::sin(phi), std::cos(phi), (1.0 + ss) / (1.0 - ss)};
+  }
+
   Strength strength(double c_scale = 1.0, double phi_scale = 1.0) const {
+    return strength(c_scale, phi_scale, shared());
+  }
+
+  Strength strength(double c_scale, double phi_scale, const Shared& m) const {
+    // sin and cos of phi (1 + d) = phi + b from those of phi, with b = phi d: a few terms of the
+    // series of b are exact to rounding for the small d of an imperfection.
+    const double b = phi * (phi_scale - 1.0);
+    double sp, cp;
+    if (std::abs(b) < 0.03) {  // the first omitted terms are below 1e-19 of the kept ones
+      const double b2 = b * b;
+      const double sin_b = b * (1.0 - b2 / 6.0 * (1.0 - b2 / 20.0 * (1.0 - b2 / 42.0)));
+      const double cos_b = 1.0 - b2 / 2.0 * (1.0 - b2 / 12.0 * (1.0 - b2 / 30.0 * (1.0 - b2 / 56.0)));
+      sp = m.sin_phi * cos_b + m.cos_phi * sin_b;
+      cp = m.cos_phi * cos_b - m.sin_phi * sin_b;
+    } else {
+      sp = std::sin(phi + b), cp = std::cos(phi + b);
+    }
     Strength s;
-    const double sp = std::sin(phi * phi_scale), ss = std::sin(psi);
     s.c = cohesion * c_scale;
     s.N_phi = (1.0 + sp) / (1.0 - sp);
     s.sqrt_N_phi = std::sqrt(s.N_phi);
-    s.N_psi = (1.0 + ss) / (1.0 - ss);
+    s.N_psi = m.N_psi;
     // A scaled phi or c must not leave sigma_t above the apex c / tan(phi).
-    s.sigma_t = std::min(tension, s.c * std::sqrt(1.0 - sp * sp) / sp);
+    s.sigma_t = std::min(tension, s.c * cp / sp);
     s.a_P = std::sqrt(1.0 + s.N_phi * s.N_phi) + s.N_phi;
     s.sigma_P = s.sigma_t * s.N_phi - 2.0 * s.c * s.sqrt_N_phi;
     return s;
@@ -120,9 +146,15 @@ struct MohrCoulomb {
   template <int D>
   YieldMode update(Voigt<D>& sigma, const Voigt<D>& d_eps, PlasticPoint& state, double c_scale = 1.0,
                    double phi_scale = 1.0) const {
+    return update<D>(sigma, d_eps, state, c_scale, phi_scale, shared());
+  }
+
+  template <int D>
+  YieldMode update(Voigt<D>& sigma, const Voigt<D>& d_eps, PlasticPoint& state, double c_scale, double phi_scale,
+                   const Shared& m) const {
     elastic.update<D>(sigma, d_eps);
     state.mode = YieldMode::Elastic;
-    return correct<D>(sigma, strength(c_scale, phi_scale), state);
+    return correct<D>(sigma, strength(c_scale, phi_scale, m), state);
   }
 };
 

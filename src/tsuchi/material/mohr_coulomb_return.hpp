@@ -18,8 +18,7 @@
 // these multi-plane returns in the associated case).
 #include "tsuchi/core/tensor.hpp"
 
-#include <Eigen/LU>
-
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cmath>
@@ -37,48 +36,44 @@ struct PrincipalReturn {
 class MohrCoulombReturn {
  public:
   // N_phi, N_psi, k = 2c sqrt(N_phi), sigma_t; a1 = K + 4G/3, a2 = K - 2G/3.
-  MohrCoulombReturn(double N_phi, double N_psi, double k, double sigma_t, double a1, double a2) {
-    E_ << a1, a2, a2, a2, a1, a2, a2, a2, a1;
-    const auto shear = [&](int i, int j) {  // N s_i - s_j <= k
-      Plane p;
-      p.n.setZero(), p.g.setZero(), p.Eg.setZero();
-      p.n[i] = N_phi, p.n[j] = -1.0;
-      p.g[i] = N_psi, p.g[j] = -1.0;
-      p.r = k;
-      return p;
-    };
-    const auto tension = [&](int i) {
-      Plane p;
-      p.n = p.g = Eigen::Vector3d::Unit(i);
-      p.Eg.setZero();
-      p.r = sigma_t;
-      return p;
-    };
-    planes_ = {shear(2, 0), shear(1, 0), shear(2, 1), tension(2), tension(1), tension(0)};
-    for (auto& p : planes_) p.Eg = E_ * p.g;
-  }
+  MohrCoulombReturn(double N_phi, double N_psi, double k, double sigma_t, double a1, double a2)
+      : N_phi_(N_phi), N_psi_(N_psi), k_(k), sigma_t_(sigma_t), a1_(a1), a2_(a2) {}
 
   // Returns false only if no candidate set is admissible (not seen in practice); the caller then
   // falls back to the isotropic tension vertex, which is always admissible.
   bool solve(const Eigen::Vector3d& trial, bool shear_first, PrincipalReturn& out) const {
-    const double scale = std::max(trial.cwiseAbs().maxCoeff(), std::abs(planes_[0].r)) + 1e-300;
+    const double scale = std::max(trial.cwiseAbs().maxCoeff(), std::abs(k_)) + 1e-300;
+    // FLAC's own single-plane correction settles most yielding points: it is tried before the
+    // other five planes are set up.
+    const std::uint8_t first = shear_first ? A : T3;
+    const Plane one = plane(std::countr_zero(first));
+    const Plane* single[1] = {&one};
+    if (try_set(first, single, trial, scale, out)) return true;
+    const std::array<Plane, 6> all = {plane(0), plane(1), plane(2), plane(3), plane(4), plane(5)};
+    const auto try_from_all = [&](std::uint8_t set) {
+      const Plane* act[3];
+      int m = 0;
+      for (int i = 0; i < 6; ++i)
+        if (set & (1u << i)) act[m++] = &all[static_cast<std::size_t>(i)];
+      return try_set(set, act, trial, scale, out);
+    };
     for (std::uint8_t set : shear_first ? kShearFirst : kTensionFirst)
-      if (try_set(set, trial, scale, out)) return true;
+      if (set != first && try_from_all(set)) return true;
     for (std::uint8_t set = 1; set < 64; ++set)  // every other set of one to three planes
-      if (std::popcount(set) <= 3 && try_set(set, trial, scale, out)) return true;
+      if (std::popcount(set) <= 3 && try_from_all(set)) return true;
     return false;
   }
 
   // Largest violation over all planes, in any order of the values: the test of admissibility.
   double violation(const Eigen::Vector3d& s) const {
-    const double N = planes_[0].n[2], k = planes_[0].r, t = planes_[3].r;
-    return std::max(N * s.maxCoeff() - s.minCoeff() - k, s.maxCoeff() - t);
+    return std::max(N_phi_ * s.maxCoeff() - s.minCoeff() - k_, s.maxCoeff() - sigma_t_);
   }
 
  private:
   struct Plane {
     Eigen::Vector3d n, g, Eg;
     double r = 0.0;
+    int tension_axis = -1;  // the principal value a tension plane holds at sigma_t
   };
   enum : std::uint8_t { A = 1, B = 2, C = 4, T3 = 8, T2 = 16, T1 = 32 };
   static constexpr std::array<std::uint8_t, 12> kShearFirst = {
@@ -86,32 +81,78 @@ class MohrCoulombReturn {
   static constexpr std::array<std::uint8_t, 12> kTensionFirst = {
       T3, T3 | T2, T3 | T2 | T1, A | T3, A | C | T3, A | B | T3, A | T2 | T3, B | T2 | T3, A, A | B, A | C, B};
 
-  bool try_set(std::uint8_t set, const Eigen::Vector3d& trial, double scale, PrincipalReturn& out) const {
-    std::array<int, 3> act{};
-    int m = 0;
-    for (int i = 0; i < 6; ++i)
-      if (set & (1u << i)) act[m++] = i;
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 3, 3> M(m, m);
-    Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 3, 1> rhs(m);
-    for (int l = 0; l < m; ++l) {
-      const Plane& pl = planes_[act[l]];
-      rhs[l] = pl.n.dot(trial) - pl.r;
-      for (int q = 0; q < m; ++q) M(l, q) = pl.n.dot(planes_[act[q]].Eg);
+  // Plane `bit` of the list above (a, b, c, T3, T2, T1). E = a2 1 1^T + (a1 - a2) I, so E g needs
+  // no matrix product.
+  Plane plane(int bit) const {
+    Plane p;
+    p.n.setZero(), p.g.setZero();
+    if (bit < 3) {  // N s_i - s_j <= k
+      const int i = bit == 1 ? 1 : 2, j = bit == 2 ? 1 : 0;
+      p.n[i] = N_phi_, p.n[j] = -1.0;
+      p.g[i] = N_psi_, p.g[j] = -1.0;
+      p.r = k_;
+    } else {
+      p.tension_axis = 5 - bit;
+      p.n[p.tension_axis] = p.g[p.tension_axis] = 1.0;
+      p.r = sigma_t_;
     }
-    Eigen::FullPivLU<decltype(M)> lu(M);
-    lu.setThreshold(1e-10);
-    if (!lu.isInvertible()) return false;  // dependent planes: the set is covered by a smaller one
-    const auto lambda = lu.solve(rhs).eval();
-    const double a1 = E_(0, 0);
+    p.Eg = Eigen::Vector3d::Constant(a2_ * p.g.sum()) + (a1_ - a2_) * p.g;
+    return p;
+  }
+
+  // Solves the leading m x m block of M lambda = rhs (m <= 3) by Cramer's rule; false when the
+  // block is singular to 1e-10 of its largest entry, i.e. the planes of the set are dependent.
+  // A 3 x 3 system does not need a pivoting factorisation, and this runs for every yielding point.
+  static bool solve_small(int m, const Mat3& M, const Eigen::Vector3d& rhs, Eigen::Vector3d& lambda) {
+    double big = 0.0;
+    for (int l = 0; l < m; ++l)
+      for (int q = 0; q < m; ++q) big = std::max(big, std::abs(M(l, q)));
+    if (m == 1) {
+      if (!(std::abs(M(0, 0)) > 0.0)) return false;
+      lambda[0] = rhs[0] / M(0, 0);
+      return true;
+    }
+    if (m == 2) {
+      const double det = M(0, 0) * M(1, 1) - M(0, 1) * M(1, 0);
+      if (!(std::abs(det) > 1e-10 * big * big)) return false;
+      lambda[0] = (rhs[0] * M(1, 1) - M(0, 1) * rhs[1]) / det;
+      lambda[1] = (M(0, 0) * rhs[1] - rhs[0] * M(1, 0)) / det;
+      return true;
+    }
+    // Each lambda is the determinant with its column replaced by rhs.
+    const auto det3 = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+      return a[0] * (b[1] * c[2] - b[2] * c[1]) - b[0] * (a[1] * c[2] - a[2] * c[1]) +
+             c[0] * (a[1] * b[2] - a[2] * b[1]);
+    };
+    const Eigen::Vector3d c0 = M.col(0), c1 = M.col(1), c2 = M.col(2);
+    const double det = det3(c0, c1, c2);
+    if (!(std::abs(det) > 1e-10 * big * big * big)) return false;
+    lambda[0] = det3(rhs, c1, c2) / det;
+    lambda[1] = det3(c0, rhs, c2) / det;
+    lambda[2] = det3(c0, c1, rhs) / det;
+    return true;
+  }
+
+  // The active set `set` with its planes in act[0 .. popcount(set)).
+  bool try_set(std::uint8_t set, const Plane* const* act, const Eigen::Vector3d& trial, double scale,
+               PrincipalReturn& out) const {
+    const int m = std::popcount(set);
+    Mat3 M;
+    Eigen::Vector3d rhs, lambda;
+    for (int l = 0; l < m; ++l) {
+      rhs[l] = act[l]->n.dot(trial) - act[l]->r;
+      for (int q = 0; q < m; ++q) M(l, q) = act[l]->n.dot(act[q]->Eg);
+    }
+    if (!solve_small(m, M, rhs, lambda)) return false;  // dependent planes: a smaller set covers it
     Eigen::Vector3d s = trial, dep = Eigen::Vector3d::Zero();
     for (int q = 0; q < m; ++q) {
-      if (lambda[q] < -1e-12 * scale / a1) return false;
-      s -= lambda[q] * planes_[act[q]].Eg;
-      dep += lambda[q] * planes_[act[q]].g;
+      if (lambda[q] < -1e-12 * scale / a1_) return false;
+      s -= lambda[q] * act[q]->Eg;
+      dep += lambda[q] * act[q]->g;
     }
     // The tension planes are axis-aligned: land on them exactly, not within rounding.
     for (int q = 0; q < m; ++q)
-      if (act[q] >= 3) s[5 - act[q]] = planes_[act[q]].r;
+      if (act[q]->tension_axis >= 0) s[act[q]->tension_axis] = act[q]->r;
     if (violation(s) > 1e-12 * scale) return false;
     out.stress = s;
     out.plastic_strain = dep;
@@ -120,8 +161,7 @@ class MohrCoulombReturn {
     return true;
   }
 
-  Mat3 E_;
-  std::array<Plane, 6> planes_;
+  double N_phi_, N_psi_, k_, sigma_t_, a1_, a2_;
 };
 
 }  // namespace tsuchi

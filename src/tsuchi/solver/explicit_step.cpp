@@ -198,6 +198,9 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
   for (std::size_t mat = 0; mat < materials.size(); ++mat) {
     std::visit(
         [&](const auto& model) {
+          using Model = std::decay_t<decltype(model)>;
+          [[maybe_unused]] MohrCoulomb::Shared shared{};
+          if constexpr (std::is_same_v<Model, MohrCoulomb>) shared = model.shared();
           const auto np = static_cast<std::int64_t>(p.size());
 #pragma omp parallel for schedule(static)
           for (std::int64_t ii = 0; ii < np; ++ii) {
@@ -215,11 +218,10 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
             jaumann_rotate(p.sigma_p[i], d_omega);
             if (rotate_sigma0) jaumann_rotate(p.sigma0_p[i], d_omega);
-            using Model = std::decay_t<decltype(model)>;
             if constexpr (std::is_same_v<Model, MohrCoulomb>) {
               PlasticPoint state{YieldMode::Elastic, p.plastic_shear_p[i], p.plastic_volume_p[i]};
               p.yield_p[i] = static_cast<std::uint8_t>(
-                  model.template update<D>(p.sigma_p[i], d_eps, state, p.c_scale_p[i], p.phi_scale_p[i]));
+                  model.template update<D>(p.sigma_p[i], d_eps, state, p.c_scale_p[i], p.phi_scale_p[i], shared));
               p.plastic_shear_p[i] = state.plastic_shear;
               p.plastic_volume_p[i] = state.plastic_volume;
             } else {

@@ -28,7 +28,7 @@ using tsuchi::shape::LinearKernel;
 
 constexpr int kSamples = 2000;  // random particle positions per case
 
-// A grid with a non-trivial origin and cell size; n_nodes per axis, no fields allocated.
+// A grid with a non-trivial origin and cell size; n_nodes per axis, indexed but with no fields.
 template <int D>
 Grid<D> make_grid(double h, int n) {
   Grid<D> g;
@@ -38,6 +38,7 @@ Grid<D> make_grid(double h, int n) {
     g.n_nodes[static_cast<std::size_t>(d)] = n;
   }
   g.h = h;
+  g.index_axes();
   return g;
 }
 

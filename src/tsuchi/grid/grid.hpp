@@ -2,6 +2,8 @@
 // The fixed Cartesian background grid: geometry and nodal fields as flat arrays (one per field).
 #include "tsuchi/core/tensor.hpp"
 
+#include <algorithm>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -28,6 +30,12 @@ struct Grid {
   std::vector<Vec<D>> a_g;              // acceleration
   std::vector<Vec<D>> vL_g;             // updated velocity v^L = v_g + dt a_g
   std::vector<std::uint8_t> fixed_g;    // bit d set: velocity component d held at zero
+
+  // Per axis, for i = -1 .. n_nodes (entry i + 1): axis_offset(d, i) clamped into the grid, and 1
+  // for a node of the grid, 0 for the two beyond its edges, which a stencil may reach and drops.
+  // Two loads per stencil node instead of a clamp, a division and a select. Built by index_axes().
+  std::array<std::vector<std::int64_t>, D> axis_term;
+  std::array<std::vector<double>, D> axis_inside;
 
   int tiles(int d) const { return (n_nodes[d] + T - 1) / T; }
 
@@ -89,7 +97,21 @@ struct Grid {
     return x;
   }
 
+  void index_axes() {
+    for (int d = 0; d < D; ++d) {
+      const int n = n_nodes[d];
+      axis_term[d].resize(static_cast<std::size_t>(n) + 2);
+      axis_inside[d].resize(static_cast<std::size_t>(n) + 2);
+      for (int i = -1; i <= n; ++i) {
+        axis_term[d][i + 1] = axis_offset(d, std::clamp(i, 0, n - 1));
+        axis_inside[d][i + 1] = i >= 0 && i < n ? 1.0 : 0.0;
+      }
+    }
+  }
+
+  // The nodal fields, and index_axes().
   void allocate() {
+    index_axes();
     const std::size_t n = size();
     m_g.assign(n, 0.0);
     p_g.assign(n, Vec<D>::Zero());

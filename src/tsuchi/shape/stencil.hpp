@@ -7,6 +7,7 @@
 #include "tsuchi/core/tensor.hpp"
 #include "tsuchi/grid/grid.hpp"
 
+#include <algorithm>
 #include <cstdint>
 
 namespace tsuchi {
@@ -26,12 +27,15 @@ struct Stencil {
     for (int d = 0; d < D; ++d) {
       const double s = (x[d] - grid.origin[d]) * inv_h;
       const int i0 = Kernel::weights(s, inv_h, lp[d], w[d].data(), dw[d].data());
-      const int last = grid.n_nodes[d] - 1;
+      // Only a particle outside the grid, about to be reported, needs the clamp: it keeps the
+      // table reads inside the tables.
+      const auto first = static_cast<std::size_t>(std::clamp(i0, -1, grid.n_nodes[d] + 1 - K) + 1);
+      const std::int64_t* term = grid.axis_term[d].data() + first;
+      const double* inside = grid.axis_inside[d].data() + first;
       for (int k = 0; k < K; ++k) {
-        const int i = i0 + k;
-        const bool inside = i >= 0 && i <= last;
-        off[d][k] = grid.axis_offset(d, inside ? i : (i < 0 ? 0 : last));
-        if (!inside) w[d][k] = dw[d][k] = 0.0;
+        off[d][k] = term[k];
+        w[d][k] *= inside[k];
+        dw[d][k] *= inside[k];
       }
     }
     int n = 0;

@@ -86,6 +86,11 @@ void ExplicitSolver<D>::p2g() {
   Vec<D> b;
   for (int d = 0; d < D; ++d) b[d] = m_.config.gravity[d];
   schedule_.scatter([&](std::size_t i) {
+    // Local copies of the array addresses: Eigen's vector stores may alias anything, and would
+    // otherwise make the compiler reload every vector's address after each node's update.
+    double* const m_g = g.m_g.data();
+    Vec<D>* const p_g = g.p_g.data();
+    Vec<D>* const f_g = g.f_g.data();
     Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
     const double m = p.m_p[i];
@@ -97,10 +102,10 @@ void ExplicitSolver<D>::p2g() {
     for (int n = 0; n < st.N; ++n) {
       const auto k = st.node[n];
       if constexpr (MassMomentum) {
-        g.m_g[k] += st.S[n] * m;
-        g.p_g[k] += st.S[n] * mv;
+        m_g[k] += st.S[n] * m;
+        p_g[k] += st.S[n] * mv;
       }
-      if constexpr (Force) g.f_g[k] += st.S[n] * mb + minus_V_stress * st.G[n];
+      if constexpr (Force) f_g[k] += st.S[n] * mb + minus_V_stress * st.G[n];
     }
   });
 }
@@ -154,12 +159,15 @@ void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
   const double beta = m_.config.solver.pic_fraction;
   if (remap) std::fill(g.p_g.begin(), g.p_g.end(), Vec<D>::Zero());
   const auto particle = [&](std::size_t i) {
+    const Vec<D>* const a_g = g.a_g.data();  // local addresses: see p2g
+    const Vec<D>* const vL_g = g.vL_g.data();
+    Vec<D>* const p_g = g.p_g.data();
     Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
     Vec<D> a = Vec<D>::Zero(), vL = Vec<D>::Zero();
     for (int n = 0; n < st.N; ++n) {
-      a += st.S[n] * g.a_g[st.node[n]];
-      vL += st.S[n] * g.vL_g[st.node[n]];
+      a += st.S[n] * a_g[st.node[n]];
+      vL += st.S[n] * vL_g[st.node[n]];
     }
     Vec<D> v = p.v_p[i] + dt * a;
     if (beta > 0.0) v = (1.0 - beta) * v + beta * vL;
@@ -168,7 +176,7 @@ void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
     p.v_p[i] = v;
     if (remap) {
       const Vec<D> mv = p.m_p[i] * v;
-      for (int n = 0; n < st.N; ++n) g.p_g[st.node[n]] += st.S[n] * mv;
+      for (int n = 0; n < st.N; ++n) p_g[st.node[n]] += st.S[n] * mv;
     }
     if (move) move_particle(i, dt, vL);
   };
@@ -206,13 +214,15 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
           for (std::int64_t ii = 0; ii < np; ++ii) {
             const auto i = static_cast<std::size_t>(ii);
             if (p.material_p[i] != static_cast<std::int32_t>(mat)) continue;
+            const Vec<D>* const v_g = v_strain.data();  // local addresses: see p2g
+            const Vec<D>* const vL_g = g.vL_g.data();
             Stencil<D, Kernel> st;
             st.compute(g, p.x_p[i], p.l_p[i]);
             Mat<D> L = Mat<D>::Zero();
             Vec<D> vL = Vec<D>::Zero();
             for (int n = 0; n < st.N; ++n) {
-              L += v_strain[st.node[n]] * st.G[n].transpose();
-              if (move) vL += st.S[n] * g.vL_g[st.node[n]];
+              L += v_g[st.node[n]] * st.G[n].transpose();
+              if (move) vL += st.S[n] * vL_g[st.node[n]];
             }
             const Voigt<D> d_eps = dt * sym_voigt<D>(L);
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());

@@ -48,19 +48,19 @@ class MohrCoulombReturn {
     const std::uint8_t first = shear_first ? A : T3;
     const Plane one = plane(std::countr_zero(first));
     const Plane* single[1] = {&one};
-    if (try_set(first, single, trial, scale, out)) return true;
+    if (try_set(first, single, 1, trial, scale, out)) return true;
     const std::array<Plane, 6> all = {plane(0), plane(1), plane(2), plane(3), plane(4), plane(5)};
     const auto try_from_all = [&](std::uint8_t set) {
       const Plane* act[3];
       int m = 0;
       for (int i = 0; i < 6; ++i)
         if (set & (1u << i)) act[m++] = &all[static_cast<std::size_t>(i)];
-      return try_set(set, act, trial, scale, out);
+      return try_set(set, act, m, trial, scale, out);
     };
     for (std::uint8_t set : shear_first ? kShearFirst : kTensionFirst)
       if (set != first && try_from_all(set)) return true;
     for (std::uint8_t set = 1; set < 64; ++set)  // every other set of one to three planes
-      if (std::popcount(set) <= 3 && try_from_all(set)) return true;
+      if (std::popcount(set) <= 3 && try_from_all(set)) return true;  // rare: popcount's cost is no matter
     return false;
   }
 
@@ -133,10 +133,9 @@ class MohrCoulombReturn {
     return true;
   }
 
-  // The active set `set` with its planes in act[0 .. popcount(set)).
-  bool try_set(std::uint8_t set, const Plane* const* act, const Eigen::Vector3d& trial, double scale,
+  // The active set `set` with its m planes in act[0 .. m).
+  bool try_set(std::uint8_t set, const Plane* const* act, int m, const Eigen::Vector3d& trial, double scale,
                PrincipalReturn& out) const {
-    const int m = std::popcount(set);
     Mat3 M;
     Eigen::Vector3d rhs, lambda;
     for (int l = 0; l < m; ++l) {

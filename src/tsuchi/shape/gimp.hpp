@@ -47,7 +47,8 @@ struct GimpKernel {
     const double r = s - (c + 1.0);
     const double q = std::max(lp * inv_L, 1e-12);  // a zero width is the linear hat, reached continuously
     const double tl = q - r, tr = q + r;
-    const double cl = std::clamp(tl, 0.0, 2.0 * q), cr = std::clamp(tr, 0.0, 2.0 * q);
+    // min(max()) rather than std::clamp, which returns a reference and compiles to branches.
+    const double cl = std::min(std::max(tl, 0.0), 2.0 * q), cr = std::min(std::max(tr, 0.0), 2.0 * q);
     const double inv4q = 0.25 / q;
     w[0] = cl * cl * inv4q + std::max(tl - 2.0 * q, 0.0);
     w[2] = cr * cr * inv4q + std::max(tr - 2.0 * q, 0.0);

@@ -1,7 +1,6 @@
 #include "tsuchi/solver/block_schedule.hpp"
 
-#include <algorithm>
-#include <cmath>
+#include <array>
 
 namespace tsuchi {
 
@@ -16,14 +15,19 @@ void BlockSchedule<D>::build(const Grid<D>& grid, const std::vector<Vec<D>>& x) 
   const auto n = static_cast<std::int64_t>(x.size());
   block_of_.resize(x.size());
   start_.assign(static_cast<std::size_t>(n_blocks) + 1, 0);
+  // (x - origin) / h as the stencils compute it, so a particle on a cell edge is filed in the cell
+  // whose nodes its stencil uses.
+  const double inv_h = 1.0 / grid.h;
+  const std::array<int, D> blocks = blocks_;
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {
     std::int64_t b = 0;
     for (int d = D - 1; d >= 0; --d) {
       // A particle outside the grid (about to be reported) is filed under the nearest block.
-      const double s = std::floor((x[i][d] - grid.origin[d]) / grid.h);
-      const int cell = static_cast<int>(std::clamp(s, 0.0, static_cast<double>(grid.n_nodes[d] - 2)));
-      b = b * blocks_[d] + cell / B;
+      // The comparisons also send a NaN to block 0 rather than into an undefined conversion.
+      const double s = (x[i][d] - grid.origin[d]) * inv_h, last = grid.n_nodes[d] - 2.0;
+      const double cell = s > 0.0 ? (s < last ? s : last) : 0.0;
+      b = b * blocks[d] + static_cast<int>(cell) / B;
     }
     block_of_[i] = static_cast<std::int32_t>(b);
   }

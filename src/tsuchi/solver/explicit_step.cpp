@@ -210,7 +210,10 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
           [[maybe_unused]] MohrCoulomb::Shared shared{};
           if constexpr (std::is_same_v<Model, MohrCoulomb>) shared = model.shared();
           const auto np = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static)
+          // Dynamic: yielding points cost several times more than elastic ones, and they gather
+          // in the shear bands. Every point's update is its own, so the result does not depend on
+          // which thread takes which chunk.
+#pragma omp parallel for schedule(dynamic, 128)
           for (std::int64_t ii = 0; ii < np; ++ii) {
             const auto i = static_cast<std::size_t>(ii);
             if (p.material_p[i] != static_cast<std::int32_t>(mat)) continue;

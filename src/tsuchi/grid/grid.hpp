@@ -13,6 +13,7 @@ template <int D>
 struct Grid {
   Vec<D> origin = Vec<D>::Zero();
   double h = 1.0;                       // cell size, the same on every axis
+  double inv_h = 1.0;                   // 1 / h, set by index_axes()
   std::array<int, D> n_nodes{};         // nodes per axis = cells + 1
 
   // Nodes are stored in tiles of T^D nodes (4 x 4 in 2D, 4 x 4 x 4 in 3D), tile after tile, and
@@ -98,6 +99,7 @@ struct Grid {
   }
 
   void index_axes() {
+    inv_h = 1.0 / h;
     for (int d = 0; d < D; ++d) {
       const int n = n_nodes[d];
       axis_term[d].resize(static_cast<std::size_t>(n) + 2);

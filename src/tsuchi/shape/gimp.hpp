@@ -4,6 +4,7 @@
 // The table there is valid for l_p <= L/2, which the domain update keeps (see particle_domain.hpp).
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace tsuchi::shape {
 
@@ -40,18 +41,26 @@ struct GimpKernel {
   static constexpr int K = 3;
   static constexpr const char* name = "gimp";
 
-  // s = (x_p - origin) / L in cell units, inv_L = 1 / L (a product is cheaper than a division in
-  // the hottest function of the step); fills the first node index and K weights/derivatives.
+  // s = (x_p - origin) / L in cell units (s >= 0 inside the grid), inv_L = 1 / L (a product is
+  // cheaper than a division in the hottest function of the step); fills the first node index and
+  // K weights/derivatives.
   static inline int weights(double s, double inv_L, double lp, double* w, double* dw) {
-    const double c = std::floor(s - 0.5);  // node left of the nearest one
-    const double r = s - (c + 1.0);
-    const double q = std::max(lp * inv_L, 1e-12);  // a zero width is the linear hat, reached continuously
-    const double tl = q - r, tr = q + r;
-    // min(max()) rather than std::clamp, which returns a reference and compiles to branches.
-    const double cl = std::min(std::max(tl, 0.0), 2.0 * q), cr = std::min(std::max(tr, 0.0), 2.0 * q);
+    // floor(s - 1/2) by truncation, exact for s >= -1/2: std::floor is a branchy sequence or a
+    // library call on baseline x86-64. Further outside, the particle has left the grid and the
+    // step is reported, whatever these weights are.
+    const auto c = static_cast<std::int64_t>(s + 0.5) - 1;  // node left of the nearest one
+    const double r = s - static_cast<double>(c + 1);
+    // max and min written as the comparisons SSE's maxsd and minsd perform: std::max and
+    // std::clamp compile to branches here.
+    const auto max0 = [](double a) { return a > 0.0 ? a : 0.0; };
+    const auto min_ = [](double a, double b) { return a < b ? a : b; };
+    const double lq = lp * inv_L;
+    const double q = lq > 1e-12 ? lq : 1e-12;  // a zero width is the linear hat, reached continuously
+    const double tl = q - r, tr = q + r, q2 = 2.0 * q;
+    const double cl = min_(max0(tl), q2), cr = min_(max0(tr), q2);
     const double inv4q = 0.25 / q;
-    w[0] = cl * cl * inv4q + std::max(tl - 2.0 * q, 0.0);
-    w[2] = cr * cr * inv4q + std::max(tr - 2.0 * q, 0.0);
+    w[0] = cl * cl * inv4q + max0(tl - q2);
+    w[2] = cr * cr * inv4q + max0(tr - q2);
     w[1] = 1.0 - w[0] - w[2];
     // dt/dx_p is -1/L on the left, +1/L on the right; g'(t) = clamp(t / 2q, 0, 1).
     dw[0] = -2.0 * cl * inv4q * inv_L;

@@ -1,6 +1,7 @@
 #pragma once
 // Linear (standard MPM) shape function, eq (15): the hat of half-width L around each node.
 #include <cmath>
+#include <cstdint>
 
 namespace tsuchi::shape {
 
@@ -23,8 +24,9 @@ struct LinearKernel {
   // s = (x_p - origin) / L in cell units, inv_L = 1 / L; fills the first node index and K
   // weights/derivatives.
   static inline int weights(double s, double inv_L, double /*l_p*/, double* w, double* dw) {
-    const double c = std::floor(s);
-    const double f = s - c;  // position within the cell, in [0, 1)
+    // floor(s) by truncation, exact for s >= 0, that is inside the grid (see GimpKernel).
+    const auto c = static_cast<std::int64_t>(s);
+    const double f = s - static_cast<double>(c);  // position within the cell, in [0, 1)
     w[0] = 1.0 - f;
     w[1] = f;
     dw[0] = -inv_L;

@@ -23,7 +23,7 @@ struct Stencil {
   [[gnu::always_inline]] inline void compute(const Grid<D>& grid, const Vec<D>& x, const Vec<D>& lp) {
     std::array<std::array<double, K>, D> w, dw;
     std::array<std::array<std::int64_t, K>, D> off;  // per-axis terms of the node index
-    const double inv_h = 1.0 / grid.h;
+    const double inv_h = grid.inv_h;
     for (int d = 0; d < D; ++d) {
       const double s = (x[d] - grid.origin[d]) * inv_h;
       const int i0 = Kernel::weights(s, inv_h, lp[d], w[d].data(), dw[d].data());

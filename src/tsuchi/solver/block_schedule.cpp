@@ -17,7 +17,7 @@ void BlockSchedule<D>::build(const Grid<D>& grid, const std::vector<Vec<D>>& x) 
   start_.assign(static_cast<std::size_t>(n_blocks) + 1, 0);
   // (x - origin) / h as the stencils compute it, so a particle on a cell edge is filed in the cell
   // whose nodes its stencil uses.
-  const double inv_h = 1.0 / grid.h;
+  const double inv_h = grid.inv_h;
   const std::array<int, D> blocks = blocks_;
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < n; ++i) {

@@ -85,8 +85,8 @@ void check_partition_of_unity(double lp_over_h) {
     double sum = 0.0;
     Vec<D> gsum = Vec<D>::Zero();
     for (int n = 0; n < st.N; ++n) {
-      sum += st.S[n];
-      gsum += st.G[n];
+      sum += st.S(n);
+      gsum += st.G(n);
     }
     ASSERT_NEAR(sum, 1.0, 1e-12) << "x = " << x.transpose() << ", lp/h = " << lp_over_h;
     for (int d = 0; d < D; ++d)
@@ -105,9 +105,9 @@ void check_linear_reproduction(double lp_over_h) {
     Vec<D> xs = Vec<D>::Zero();
     tsuchi::Mat<D> grad = tsuchi::Mat<D>::Zero();
     for (int n = 0; n < st.N; ++n) {
-      const Vec<D> xg = g.position(g.ijk(st.node[n]));
-      xs += st.S[n] * xg;
-      grad += st.G[n] * xg.transpose();  // grad(i, j) = sum_g G_i x_g,j
+      const Vec<D> xg = g.position(g.ijk(st.node(n)));
+      xs += st.S(n) * xg;
+      grad += st.G(n) * xg.transpose();  // grad(i, j) = sum_g G_i x_g,j
     }
     for (int d = 0; d < D; ++d) ASSERT_NEAR(xs[d], x[d], 1e-12) << "axis " << d << ", x = " << x.transpose();
     for (int i = 0; i < D; ++i)
@@ -295,21 +295,22 @@ TEST(GimpStencil, TensorProduct3D) {
     ASSERT_EQ(st.N, 27);
     double sum = 0.0;
     for (int n = 0; n < st.N; ++n) {
-      const Vec<3> xg = g.position(g.ijk(st.node[n]));
+      const Vec<3> xg = g.position(g.ijk(st.node(n)));
       std::array<double, 3> s1{}, d1{};
       for (int d = 0; d < 3; ++d) {
         s1[static_cast<std::size_t>(d)] = gimp_S(x[d] - xg[d], g.h, lp[d]);
         d1[static_cast<std::size_t>(d)] = gimp_dS(x[d] - xg[d], g.h, lp[d]);
       }
-      EXPECT_NEAR(st.S[n], s1[0] * s1[1] * s1[2], 1e-14) << "node " << st.node[n];
-      EXPECT_NEAR(st.G[n][0] * g.h, d1[0] * s1[1] * s1[2] * g.h, 1e-13);
-      EXPECT_NEAR(st.G[n][1] * g.h, s1[0] * d1[1] * s1[2] * g.h, 1e-13);
-      EXPECT_NEAR(st.G[n][2] * g.h, s1[0] * s1[1] * d1[2] * g.h, 1e-13);
-      sum += st.S[n];
+      EXPECT_NEAR(st.S(n), s1[0] * s1[1] * s1[2], 1e-14) << "node " << st.node(n);
+      EXPECT_NEAR(st.G(n)[0] * g.h, d1[0] * s1[1] * s1[2] * g.h, 1e-13);
+      EXPECT_NEAR(st.G(n)[1] * g.h, s1[0] * d1[1] * s1[2] * g.h, 1e-13);
+      EXPECT_NEAR(st.G(n)[2] * g.h, s1[0] * s1[1] * d1[2] * g.h, 1e-13);
+      sum += st.S(n);
     }
     EXPECT_NEAR(sum, 1.0, 1e-12);
     // The 27 nodes are distinct.
-    std::vector<std::int64_t> nodes(st.node.begin(), st.node.end());
+    std::vector<std::int64_t> nodes;
+    for (int n = 0; n < st.N; ++n) nodes.push_back(st.node(n));
     std::sort(nodes.begin(), nodes.end());
     EXPECT_TRUE(std::unique(nodes.begin(), nodes.end()) == nodes.end());
   }
@@ -325,9 +326,9 @@ TEST(GimpStencil, NodesOffTheGridGetZeroWeightAndAValidIndex) {
   const auto n_total = static_cast<std::int64_t>(g.size());
   double sum = 0.0;
   for (int n = 0; n < st.N; ++n) {
-    EXPECT_GE(st.node[n], 0);
-    EXPECT_LT(st.node[n], n_total);
-    sum += st.S[n];
+    EXPECT_GE(st.node(n), 0);
+    EXPECT_LT(st.node(n), n_total);
+    sum += st.S(n);
   }
   // What is lost is exactly the weight of the missing node at xi = 1.25 h along x.
   EXPECT_NEAR(sum, 1.0 - gimp_S(1.25 * g.h, g.h, lp[0]), 1e-12);
@@ -381,14 +382,14 @@ TEST(LinearStencil, HandValues2D) {
   const std::array<std::array<int, 2>, 4> ij{{{2, 3}, {3, 3}, {2, 4}, {3, 4}}};
   for (int n = 0; n < 4; ++n) {
     const auto k = static_cast<std::size_t>(n);
-    EXPECT_EQ(st.node[n], g.index(ij[k]));
-    EXPECT_NEAR(st.S[n], S[k], 1e-14);
+    EXPECT_EQ(st.node(n), g.index(ij[k]));
+    EXPECT_NEAR(st.S(n), S[k], 1e-14);
   }
   // G = (dSx Sy, Sx dSy) with dS = -+1/h = -+2.
-  EXPECT_NEAR(st.G[0][0], -2.0 * 0.5, 1e-14);
-  EXPECT_NEAR(st.G[0][1], 0.75 * -2.0, 1e-14);
-  EXPECT_NEAR(st.G[3][0], 2.0 * 0.5, 1e-14);
-  EXPECT_NEAR(st.G[3][1], 0.25 * 2.0, 1e-14);
+  EXPECT_NEAR(st.G(0)[0], -2.0 * 0.5, 1e-14);
+  EXPECT_NEAR(st.G(0)[1], 0.75 * -2.0, 1e-14);
+  EXPECT_NEAR(st.G(3)[0], 2.0 * 0.5, 1e-14);
+  EXPECT_NEAR(st.G(3)[1], 0.25 * 2.0, 1e-14);
 }
 
 }  // namespace

@@ -1,6 +1,14 @@
 #pragma once
 // Multi-dimensional weights as tensor products of the 1D ones, eqs (18)-(19):
 //   S = S_x S_y S_z,   G_x = S_x' S_y S_z, ...
+//
+// The stencil is kept factored: the K nodes along x, and the K^(D-1) rows of nodes along x, each
+// row with the product T of its weights on the other axes and, per other axis d, dT_d (T with
+// that axis' weight replaced by its derivative). Node (a, r) then has
+//   S = wx[a] T[r],   G_x = dwx[a] T[r],   G_d = wx[a] dT_d[r],
+// and a sum over the stencil can run along x first and apply the row factors once per row:
+// fewer products than with the K^D weights spelt out, and nothing to store per node.
+//
 // Nodes of the stencil that fall outside the grid get weight 0 and a clamped (valid) index, so
 // scatter and gather loops run without a branch; the dropped weight is the grid edge, where a
 // boundary condition holds anyway.
@@ -8,6 +16,7 @@
 #include "tsuchi/grid/grid.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 
 namespace tsuchi {
@@ -15,18 +24,21 @@ namespace tsuchi {
 template <int D, class Kernel>
 struct Stencil {
   static constexpr int K = Kernel::K;
-  static constexpr int N = D == 2 ? K * K : K * K * K;
-  std::array<std::int64_t, N> node;
-  std::array<double, N> S;
-  std::array<Vec<D>, N> G;
+  static constexpr int R = D == 2 ? K : K * K;  // rows along x
+  static constexpr int N = K * R;               // nodes
+
+  std::array<double, K> wx, dwx;
+  std::array<std::int64_t, K> offx;  // index terms along x
+  std::array<double, R> T;
+  std::array<std::array<double, D - 1>, R> dT;
+  std::array<std::int64_t, R> row;  // index term of each row
 
   [[gnu::always_inline]] inline void compute(const Grid<D>& grid, const Vec<D>& x, const Vec<D>& lp) {
     std::array<std::array<double, K>, D> w, dw;
-    std::array<std::array<std::int64_t, K>, D> off;  // per-axis terms of the node index
-    const double inv_h = grid.inv_h;
+    std::array<std::array<std::int64_t, K>, D> off;
     for (int d = 0; d < D; ++d) {
-      const double s = (x[d] - grid.origin[d]) * inv_h;
-      const int i0 = Kernel::weights(s, inv_h, lp[d], w[d].data(), dw[d].data());
+      const double s = (x[d] - grid.origin[d]) * grid.inv_h;
+      const int i0 = Kernel::weights(s, grid.inv_h, lp[d], w[d].data(), dw[d].data());
       // Only a particle outside the grid, about to be reported, needs the clamp: it keeps the
       // table reads inside the tables.
       const auto first = static_cast<std::size_t>(std::clamp(i0, -1, grid.n_nodes[d] + 1 - K) + 1);
@@ -38,24 +50,30 @@ struct Stencil {
         dw[d][k] *= inside[k];
       }
     }
-    int n = 0;
+    wx = w[0], dwx = dw[0], offx = off[0];
     if constexpr (D == 2) {
-      for (int b = 0; b < K; ++b)
-        for (int a = 0; a < K; ++a, ++n) {
-          node[n] = off[0][a] + off[1][b];
-          S[n] = w[0][a] * w[1][b];
-          G[n] = Vec<D>(dw[0][a] * w[1][b], w[0][a] * dw[1][b]);
-        }
+      for (int b = 0; b < K; ++b) T[b] = w[1][b], dT[b][0] = dw[1][b], row[b] = off[1][b];
     } else {
       for (int c = 0; c < K; ++c)
-        for (int b = 0; b < K; ++b)
-          for (int a = 0; a < K; ++a, ++n) {
-            node[n] = off[0][a] + off[1][b] + off[2][c];
-            S[n] = w[0][a] * w[1][b] * w[2][c];
-            G[n] = Vec<D>(dw[0][a] * w[1][b] * w[2][c], w[0][a] * dw[1][b] * w[2][c],
-                          w[0][a] * w[1][b] * dw[2][c]);
-          }
+        for (int b = 0; b < K; ++b) {
+          const int r = b + K * c;
+          T[r] = w[1][b] * w[2][c];
+          dT[r][0] = dw[1][b] * w[2][c];
+          dT[r][1] = w[1][b] * dw[2][c];
+          row[r] = off[1][b] + off[2][c];
+        }
     }
+  }
+
+  // Node n = a + K r spelt out, for checks and for code off the hot path.
+  std::int64_t node(int n) const { return offx[n % K] + row[n / K]; }
+  double S(int n) const { return wx[n % K] * T[n / K]; }
+  Vec<D> G(int n) const {
+    const int a = n % K, r = n / K;
+    Vec<D> g;
+    g[0] = dwx[a] * T[r];
+    for (int d = 1; d < D; ++d) g[d] = wx[a] * dT[r][d - 1];
+    return g;
   }
 };
 

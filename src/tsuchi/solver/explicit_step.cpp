@@ -99,13 +99,22 @@ void ExplicitSolver<D>::p2g() {
     const Mat<D> minus_V_stress = -p.V_p[i] * s.template topLeftCorner<D, D>();
     const Vec<D> mv = m * p.v_p[i];
     const Vec<D> mb = m * b;
-    for (int n = 0; n < st.N; ++n) {
-      const auto k = st.node[n];
-      if constexpr (MassMomentum) {
-        m_g[k] += st.S[n] * m;
-        p_g[k] += st.S[n] * mv;
+    // Row by row (stencil.hpp): with c_d the columns of -V sigma, node (a, r) gets
+    //   f = S mb + sum_d G_d c_d = wx[a] (T mb + sum_{d>0} dT_d c_d) + dwx[a] T c_0.
+    for (int r = 0; r < st.R; ++r) {
+      const double Tm = st.T[r] * m;
+      const Vec<D> Tmv = st.T[r] * mv;
+      Vec<D> f_w = st.T[r] * mb;
+      for (int d = 1; d < D; ++d) f_w += st.dT[r][d - 1] * minus_V_stress.col(d);
+      const Vec<D> f_dw = st.T[r] * minus_V_stress.col(0);
+      for (int a = 0; a < st.K; ++a) {
+        const auto k = st.offx[a] + st.row[r];
+        if constexpr (MassMomentum) {
+          m_g[k] += st.wx[a] * Tm;
+          p_g[k] += st.wx[a] * Tmv;
+        }
+        if constexpr (Force) f_g[k] += st.wx[a] * f_w + st.dwx[a] * f_dw;
       }
-      if constexpr (Force) f_g[k] += st.S[n] * mb + minus_V_stress * st.G[n];
     }
   });
 }
@@ -165,9 +174,15 @@ void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
     Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
     Vec<D> a = Vec<D>::Zero(), vL = Vec<D>::Zero();
-    for (int n = 0; n < st.N; ++n) {
-      a += st.S[n] * a_g[st.node[n]];
-      vL += st.S[n] * vL_g[st.node[n]];
+    for (int r = 0; r < st.R; ++r) {  // along x first, then the row's weight (stencil.hpp)
+      Vec<D> row_a = Vec<D>::Zero(), row_vL = Vec<D>::Zero();
+      for (int c = 0; c < st.K; ++c) {
+        const auto k = st.offx[c] + st.row[r];
+        row_a += st.wx[c] * a_g[k];
+        row_vL += st.wx[c] * vL_g[k];
+      }
+      a += st.T[r] * row_a;
+      vL += st.T[r] * row_vL;
     }
     Vec<D> v = p.v_p[i] + dt * a;
     if (beta > 0.0) v = (1.0 - beta) * v + beta * vL;
@@ -176,7 +191,10 @@ void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
     p.v_p[i] = v;
     if (remap) {
       const Vec<D> mv = p.m_p[i] * v;
-      for (int n = 0; n < st.N; ++n) p_g[st.node[n]] += st.S[n] * mv;
+      for (int r = 0; r < st.R; ++r) {
+        const Vec<D> Tmv = st.T[r] * mv;
+        for (int c = 0; c < st.K; ++c) p_g[st.offx[c] + st.row[r]] += st.wx[c] * Tmv;
+      }
     }
     if (move) move_particle(i, dt, vL);
   };
@@ -221,11 +239,20 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
             const Vec<D>* const vL_g = g.vL_g.data();
             Stencil<D, Kernel> st;
             st.compute(g, p.x_p[i], p.l_p[i]);
+            // L = sum v G^T, column j = sum v G_j; along x first, then the row factors.
             Mat<D> L = Mat<D>::Zero();
             Vec<D> vL = Vec<D>::Zero();
-            for (int n = 0; n < st.N; ++n) {
-              L += v_g[st.node[n]] * st.G[n].transpose();
-              if (move) vL += st.S[n] * vL_g[st.node[n]];
+            for (int r = 0; r < st.R; ++r) {
+              Vec<D> row_w = Vec<D>::Zero(), row_dw = Vec<D>::Zero(), row_vL = Vec<D>::Zero();
+              for (int a = 0; a < st.K; ++a) {
+                const auto k = st.offx[a] + st.row[r];
+                row_w += st.wx[a] * v_g[k];
+                row_dw += st.dwx[a] * v_g[k];
+                if (move) row_vL += st.wx[a] * vL_g[k];
+              }
+              L.col(0) += st.T[r] * row_dw;
+              for (int d = 1; d < D; ++d) L.col(d) += st.dT[r][d - 1] * row_w;
+              if (move) vL += st.T[r] * row_vL;
             }
             const Voigt<D> d_eps = dt * sym_voigt<D>(L);
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());

@@ -2,9 +2,11 @@
 // GIMP shape function (Bardenhagen & Kober 2004): the linear hat integrated against the particle's
 // characteristic function of half-width l_p, eq (16)-(17), as corrected in METHOD.md section 2.
 // The table there is valid for l_p <= L/2, which the domain update keeps (see particle_domain.hpp).
+#include <Eigen/Core>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <cstdint>
 
 namespace tsuchi::shape {
 
@@ -41,32 +43,40 @@ struct GimpKernel {
   static constexpr int K = 3;
   static constexpr const char* name = "gimp";
 
-  // s = (x_p - origin) / L in cell units (s >= 0 inside the grid), inv_L = 1 / L (a product is
-  // cheaper than a division in the hottest function of the step); fills the first node index and
-  // K weights/derivatives.
-  static inline int weights(double s, double inv_L, double lp, double* w, double* dw) {
+  // Every axis at once, one lane per axis (2D: one SSE register). s = (x_p - origin) / L in cell
+  // units (s >= 0 inside the grid), inv_L = 1 / L (a product is cheaper than a division in the
+  // hottest function of the step); fills w[k], dw[k] per axis and returns the first node indices.
+  template <int D>
+  static inline Eigen::Array<int, D, 1> weights(const Eigen::Array<double, D, 1>& s, double inv_L,
+                                                const Eigen::Array<double, D, 1>& lp,
+                                                std::array<Eigen::Array<double, D, 1>, K>& w,
+                                                std::array<Eigen::Array<double, D, 1>, K>& dw) {
+    using A = Eigen::Array<double, D, 1>;
     // floor(s - 1/2) by truncation, exact for s >= -1/2: std::floor is a branchy sequence or a
     // library call on baseline x86-64. Further outside, the particle has left the grid and the
     // step is reported, whatever these weights are.
-    const auto c = static_cast<std::int64_t>(s + 0.5) - 1;  // node left of the nearest one
-    const double r = s - static_cast<double>(c + 1);
-    // max and min written as the comparisons SSE's maxsd and minsd perform: std::max and
-    // std::clamp compile to branches here.
-    const auto max0 = [](double a) { return a > 0.0 ? a : 0.0; };
-    const auto min_ = [](double a, double b) { return a < b ? a : b; };
-    const double lq = lp * inv_L;
-    const double q = lq > 1e-12 ? lq : 1e-12;  // a zero width is the linear hat, reached continuously
-    const double tl = q - r, tr = q + r, q2 = 2.0 * q;
-    const double cl = min_(max0(tl), q2), cr = min_(max0(tr), q2);
-    const double inv4q = 0.25 / q;
-    w[0] = cl * cl * inv4q + max0(tl - q2);
-    w[2] = cr * cr * inv4q + max0(tr - q2);
+    const Eigen::Array<int, D, 1> c = (s + 0.5).template cast<int>() - 1;  // node left of the nearest
+    const A r = s - (c + 1).template cast<double>();
+    const A q = (lp * inv_L).max(1e-12);  // a zero width is the linear hat, reached continuously
+    const A tl = q - r, tr = q + r, q2 = 2.0 * q;
+    const A cl = tl.max(0.0).min(q2), cr = tr.max(0.0).min(q2);
+    const A inv4q = 0.25 / q;
+    w[0] = cl * cl * inv4q + (tl - q2).max(0.0);
+    w[2] = cr * cr * inv4q + (tr - q2).max(0.0);
     w[1] = 1.0 - w[0] - w[2];
     // dt/dx_p is -1/L on the left, +1/L on the right; g'(t) = clamp(t / 2q, 0, 1).
-    dw[0] = -2.0 * cl * inv4q * inv_L;
-    dw[2] = 2.0 * cr * inv4q * inv_L;
+    dw[0] = (-2.0 * inv_L) * cl * inv4q;
+    dw[2] = (2.0 * inv_L) * cr * inv4q;
     dw[1] = -dw[0] - dw[2];
-    return static_cast<int>(c);
+    return c;
+  }
+
+  // One axis: fills w[0..K), dw[0..K) and returns the first node index.
+  static inline int weights(double s, double inv_L, double lp, double* w, double* dw) {
+    std::array<Eigen::Array<double, 1, 1>, K> w1, dw1;
+    const int c = weights<1>(Eigen::Array<double, 1, 1>(s), inv_L, Eigen::Array<double, 1, 1>(lp), w1, dw1)[0];
+    for (int k = 0; k < K; ++k) w[k] = w1[k][0], dw[k] = dw1[k][0];
+    return c;
   }
 };
 

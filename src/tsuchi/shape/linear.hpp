@@ -1,7 +1,9 @@
 #pragma once
 // Linear (standard MPM) shape function, eq (15): the hat of half-width L around each node.
+#include <Eigen/Core>
+
+#include <array>
 #include <cmath>
-#include <cstdint>
 
 namespace tsuchi::shape {
 
@@ -21,17 +23,28 @@ struct LinearKernel {
   static constexpr int K = 2;
   static constexpr const char* name = "linear";
 
-  // s = (x_p - origin) / L in cell units, inv_L = 1 / L; fills the first node index and K
-  // weights/derivatives.
-  static inline int weights(double s, double inv_L, double /*l_p*/, double* w, double* dw) {
+  // Every axis at once (see GimpKernel). s = (x_p - origin) / L in cell units, inv_L = 1 / L.
+  template <int D>
+  static inline Eigen::Array<int, D, 1> weights(const Eigen::Array<double, D, 1>& s, double inv_L,
+                                                const Eigen::Array<double, D, 1>& /*l_p*/,
+                                                std::array<Eigen::Array<double, D, 1>, K>& w,
+                                                std::array<Eigen::Array<double, D, 1>, K>& dw) {
     // floor(s) by truncation, exact for s >= 0, that is inside the grid (see GimpKernel).
-    const auto c = static_cast<std::int64_t>(s);
-    const double f = s - static_cast<double>(c);  // position within the cell, in [0, 1)
+    const Eigen::Array<int, D, 1> c = s.template cast<int>();
+    const Eigen::Array<double, D, 1> f = s - c.template cast<double>();  // position in the cell, [0, 1)
     w[0] = 1.0 - f;
     w[1] = f;
-    dw[0] = -inv_L;
-    dw[1] = inv_L;
-    return static_cast<int>(c);
+    dw[0].setConstant(-inv_L);
+    dw[1].setConstant(inv_L);
+    return c;
+  }
+
+  // One axis: fills w[0..K), dw[0..K) and returns the first node index.
+  static inline int weights(double s, double inv_L, double lp, double* w, double* dw) {
+    std::array<Eigen::Array<double, 1, 1>, K> w1, dw1;
+    const int c = weights<1>(Eigen::Array<double, 1, 1>(s), inv_L, Eigen::Array<double, 1, 1>(lp), w1, dw1)[0];
+    for (int k = 0; k < K; ++k) w[k] = w1[k][0], dw[k] = dw1[k][0];
+    return c;
   }
 };
 

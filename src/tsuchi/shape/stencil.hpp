@@ -34,20 +34,22 @@ struct Stencil {
   std::array<std::int64_t, R> row;  // index term of each row
 
   [[gnu::always_inline]] inline void compute(const Grid<D>& grid, const Vec<D>& x, const Vec<D>& lp) {
+    using Axes = Eigen::Array<double, D, 1>;
+    std::array<Axes, K> wa, dwa;
+    const Eigen::Array<int, D, 1> i0 =
+        Kernel::template weights<D>((x - grid.origin).array() * grid.inv_h, grid.inv_h, lp.array(), wa, dwa);
     std::array<std::array<double, K>, D> w, dw;
     std::array<std::array<std::int64_t, K>, D> off;
     for (int d = 0; d < D; ++d) {
-      const double s = (x[d] - grid.origin[d]) * grid.inv_h;
-      const int i0 = Kernel::weights(s, grid.inv_h, lp[d], w[d].data(), dw[d].data());
       // Only a particle outside the grid, about to be reported, needs the clamp: it keeps the
       // table reads inside the tables.
-      const auto first = static_cast<std::size_t>(std::clamp(i0, -1, grid.n_nodes[d] + 1 - K) + 1);
+      const auto first = static_cast<std::size_t>(std::clamp(i0[d], -1, grid.n_nodes[d] + 1 - K) + 1);
       const std::int64_t* term = grid.axis_term[d].data() + first;
       const double* inside = grid.axis_inside[d].data() + first;
       for (int k = 0; k < K; ++k) {
         off[d][k] = term[k];
-        w[d][k] *= inside[k];
-        dw[d][k] *= inside[k];
+        w[d][k] = wa[k][d] * inside[k];
+        dw[d][k] = dwa[k][d] * inside[k];
       }
     }
     wx = w[0], dwx = dw[0], offx = off[0];

@@ -7,19 +7,23 @@ namespace tsuchi {
 template <int D>
 void BlockSchedule<D>::build(const Grid<D>& grid, const std::vector<Vec<D>>& x) {
   std::int64_t n_blocks = 1;
+  std::array<int, D> blocks{};
   for (int d = 0; d < D; ++d) {
     const int cells = grid.n_nodes[d] - 1;
-    blocks_[d] = (cells + B - 1) / B;
-    n_blocks *= blocks_[d];
+    blocks[d] = (cells + B - 1) / B;
+    n_blocks *= blocks[d];
   }
   const auto n = static_cast<std::int64_t>(x.size());
+  // The last schedule still holds if every particle stayed in its block, as nearly all do in a
+  // step: the sort below would rebuild it entry for entry. Only the pass over positions runs then.
+  bool same = valid_ && blocks == blocks_ && block_of_.size() == x.size();
+  blocks_ = blocks;
   block_of_.resize(x.size());
-  start_.assign(static_cast<std::size_t>(n_blocks) + 1, 0);
   // (x - origin) / h as the stencils compute it, so a particle on a cell edge is filed in the cell
   // whose nodes its stencil uses.
   const double inv_h = grid.inv_h;
-  const std::array<int, D> blocks = blocks_;
-#pragma omp parallel for schedule(static)
+  std::int64_t moved = 0;
+#pragma omp parallel for schedule(static) reduction(+ : moved)
   for (std::int64_t i = 0; i < n; ++i) {
     std::int64_t b = 0;
     for (int d = D - 1; d >= 0; --d) {
@@ -29,8 +33,11 @@ void BlockSchedule<D>::build(const Grid<D>& grid, const std::vector<Vec<D>>& x) 
       const double cell = s > 0.0 ? (s < last ? s : last) : 0.0;
       b = b * blocks[d] + static_cast<int>(cell) / B;
     }
-    block_of_[i] = static_cast<std::int32_t>(b);
+    if (block_of_[i] != static_cast<std::int32_t>(b)) block_of_[i] = static_cast<std::int32_t>(b), ++moved;
   }
+  if (same && moved == 0) return;
+  valid_ = true;
+  start_.assign(static_cast<std::size_t>(n_blocks) + 1, 0);
   for (std::int64_t i = 0; i < n; ++i) ++start_[block_of_[i] + 1];
   for (std::int64_t b = 0; b < n_blocks; ++b) start_[b + 1] += start_[b];
   order_.resize(x.size());

@@ -9,8 +9,9 @@
 // increasing index. Every node therefore sums its contributions in one fixed order, whatever the
 // number of threads: results are bitwise the same on 1 or N threads, with no lock or atomic.
 //
-// Rebuilt every step from the start-of-step positions by a counting sort of particle indices (two
-// passes over the particles, 8 bytes per particle).
+// Brought up to date every step from the start-of-step positions: a pass that files each particle
+// under its block, then, only if some particle changed block, a counting sort of the particle
+// indices (8 bytes per particle in all).
 #include "tsuchi/grid/grid.hpp"
 
 #include <array>
@@ -26,6 +27,9 @@ class BlockSchedule {
   static constexpr int kColours = 1 << D;
 
   void build(const Grid<D>& grid, const std::vector<Vec<D>>& x);
+
+  // The particles were reordered: the next build starts afresh.
+  void invalidate() { valid_ = false; }
 
   // Calls f(i) for every particle, colour by colour, blocks of one colour in parallel.
   template <class F>
@@ -45,6 +49,7 @@ class BlockSchedule {
   const std::vector<std::int32_t>& order() const { return order_; }
 
  private:
+  bool valid_ = false;                          // built, and the particles not reordered since
   std::array<int, D> blocks_{};
   std::vector<std::int32_t> block_of_;          // per particle
   std::vector<std::int64_t> start_;             // per block: first entry in order_, plus a sentinel

@@ -36,6 +36,7 @@ void ExplicitSolver<D>::step_with(double dt) {
     // The order depends on positions only, so every thread count sorts alike, and a restart at
     // the same step sorts alike.
     m_.particles.permute(schedule_.order(), sort_scratch_);
+    schedule_.invalidate();
     schedule_.build(g, m_.particles.x_p);
   }
   switch (m_.config.solver.scheme) {
@@ -73,16 +74,36 @@ void ExplicitSolver<D>::step_with(double dt) {
 // f_ext = sum S m_p b.
 // The stages are compile-time flags: the node loop is the hottest loop of the step and should
 // carry no test that is the same for every node.
+namespace {
+
+// Zeroes nodal arrays of one size in one parallel loop: a serial fill would be the largest serial
+// part of the step.
+template <class T>
+T zero_of() {
+  if constexpr (std::is_arithmetic_v<T>) return T{0};
+  else return T::Zero();
+}
+
+template <class First, class... Rest>
+void zero_nodal(First& first, Rest&... rest) {
+  const auto n = static_cast<std::int64_t>(first.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t k = 0; k < n; ++k) {
+    first[k] = zero_of<typename First::value_type>();
+    ((rest[k] = zero_of<typename Rest::value_type>()), ...);
+  }
+}
+
+}  // namespace
+
 template <int D>
 template <class Kernel, bool MassMomentum, bool Force>
 void ExplicitSolver<D>::p2g() {
   auto& g = m_.grid;
   const auto& p = m_.particles;
-  if constexpr (MassMomentum) {
-    std::fill(g.m_g.begin(), g.m_g.end(), 0.0);
-    std::fill(g.p_g.begin(), g.p_g.end(), Vec<D>::Zero());
-  }
-  if constexpr (Force) std::fill(g.f_g.begin(), g.f_g.end(), Vec<D>::Zero());
+  if constexpr (MassMomentum && Force) zero_nodal(g.m_g, g.p_g, g.f_g);
+  else if constexpr (MassMomentum) zero_nodal(g.m_g, g.p_g);
+  else zero_nodal(g.f_g);
   Vec<D> b;
   for (int d = 0; d < D; ++d) b[d] = m_.config.gravity[d];
   schedule_.scatter([&](std::size_t i) {
@@ -166,7 +187,7 @@ void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
   auto& g = m_.grid;
   auto& p = m_.particles;
   const double beta = m_.config.solver.pic_fraction;
-  if (remap) std::fill(g.p_g.begin(), g.p_g.end(), Vec<D>::Zero());
+  if (remap) zero_nodal(g.p_g);
   const auto particle = [&](std::size_t i) {
     const Vec<D>* const a_g = g.a_g.data();  // local addresses: see p2g
     const Vec<D>* const vL_g = g.vL_g.data();

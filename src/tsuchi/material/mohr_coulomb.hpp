@@ -44,7 +44,7 @@ struct MohrCoulomb {
 
   // Strength of one point; c and phi may carry the point's imperfection factors.
   struct Strength {
-    double c, N_phi, sqrt_N_phi, N_psi, sigma_t, a_P, sigma_P;
+    double c, N_phi, sqrt_N_phi, N_psi, sigma_t;
   };
 
   // What the strength of every point of a material shares: computed once per material group, so
@@ -80,10 +80,9 @@ struct MohrCoulomb {
     s.N_phi = (1.0 + sp) / (1.0 - sp);
     s.sqrt_N_phi = std::sqrt(s.N_phi);
     s.N_psi = m.N_psi;
-    // A scaled phi or c must not leave sigma_t above the apex c / tan(phi).
-    s.sigma_t = std::min(tension, s.c * cp / sp);
-    s.a_P = std::sqrt(1.0 + s.N_phi * s.N_phi) + s.N_phi;
-    s.sigma_P = s.sigma_t * s.N_phi - 2.0 * s.c * s.sqrt_N_phi;
+    // A scaled phi or c must not leave sigma_t above the apex c / tan(phi); compared without the
+    // division, which the usual sigma_t = 0 never needs.
+    s.sigma_t = tension * sp <= s.c * cp ? tension : s.c * cp / sp;
     return s;
   }
 
@@ -113,7 +112,10 @@ struct MohrCoulomb {
     if constexpr (D == 3)
       if (shear_yield(p, s) >= 0.0 && s.sigma_t - p[2] >= 0.0) return YieldMode::Elastic;
     const double a1 = elastic.K + 4.0 * elastic.G / 3.0, a2 = elastic.K - 2.0 * elastic.G / 3.0;
-    const bool shear = p[2] - s.sigma_t + s.a_P * (p[0] - s.sigma_P) <= 0.0;  // FLAC's h-function
+    // FLAC's h-function; (sigma_P, sigma_t) is the corner of the shear and tension surfaces.
+    const double a_P = std::sqrt(1.0 + s.N_phi * s.N_phi) + s.N_phi;
+    const double sigma_P = s.sigma_t * s.N_phi - 2.0 * s.c * s.sqrt_N_phi;
+    const bool shear = p[2] - s.sigma_t + a_P * (p[0] - sigma_P) <= 0.0;
     if (!shear && tension_rule == TensionRule::Paper) {
       // Eq (28): released to sigma_t on the diagonal; the whole release is plastic.
       const Eigen::Vector3d dep = compliance((p.array() - s.sigma_t).matrix());

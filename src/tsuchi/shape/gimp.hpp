@@ -47,7 +47,7 @@ struct GimpKernel {
   // units (s >= 0 inside the grid), inv_L = 1 / L (a product is cheaper than a division in the
   // hottest function of the step); fills w[k], dw[k] per axis and returns the first node indices.
   template <int D>
-  static inline Eigen::Array<int, D, 1> weights(const Eigen::Array<double, D, 1>& s, double inv_L,
+  [[gnu::always_inline]] static inline Eigen::Array<int, D, 1> weights(const Eigen::Array<double, D, 1>& s, double inv_L,
                                                 const Eigen::Array<double, D, 1>& lp,
                                                 std::array<Eigen::Array<double, D, 1>, K>& w,
                                                 std::array<Eigen::Array<double, D, 1>, K>& dw) {

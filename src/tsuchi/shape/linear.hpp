@@ -25,7 +25,7 @@ struct LinearKernel {
 
   // Every axis at once (see GimpKernel). s = (x_p - origin) / L in cell units, inv_L = 1 / L.
   template <int D>
-  static inline Eigen::Array<int, D, 1> weights(const Eigen::Array<double, D, 1>& s, double inv_L,
+  [[gnu::always_inline]] static inline Eigen::Array<int, D, 1> weights(const Eigen::Array<double, D, 1>& s, double inv_L,
                                                 const Eigen::Array<double, D, 1>& /*l_p*/,
                                                 std::array<Eigen::Array<double, D, 1>, K>& w,
                                                 std::array<Eigen::Array<double, D, 1>, K>& dw) {

@@ -61,19 +61,27 @@ struct Particles {
   // Reorders every array: particle k of the result is particle order[k] of this one. Ids move
   // with their particles, so outputs keyed by id are unchanged. `scratch` keeps its storage between
   // calls, so a periodic reordering allocates only the first time.
+  // Scratch storage in 64-byte lines: aligned for any element type, as vectorised loads of Eigen
+  // types require (32 bytes with AVX).
+  struct alignas(64) ScratchLine {
+    unsigned char bytes[64];
+  };
+  using Scratch = std::vector<ScratchLine>;
+
   template <class Index>
-  void permute(const std::vector<Index>& order, std::vector<unsigned char>& scratch) {
+  void permute(const std::vector<Index>& order, Scratch& scratch) {
     for_each_array([&](const char*, auto& a) {
       using T = typename std::decay_t<decltype(a)>::value_type;
-      scratch.resize(std::max(scratch.size(), a.size() * sizeof(T)));
-      std::memcpy(scratch.data(), static_cast<const void*>(a.data()), a.size() * sizeof(T));
+      const std::size_t lines = (a.size() * sizeof(T) + sizeof(ScratchLine) - 1) / sizeof(ScratchLine);
+      scratch.resize(std::max(scratch.size(), lines));
+      std::memcpy(static_cast<void*>(scratch.data()), static_cast<const void*>(a.data()), a.size() * sizeof(T));
       const auto* copy = reinterpret_cast<const T*>(scratch.data());
       for (std::size_t k = 0; k < order.size(); ++k) a[k] = copy[static_cast<std::size_t>(order[k])];
     });
   }
   template <class Index>
   void permute(const std::vector<Index>& order) {
-    std::vector<unsigned char> scratch;
+    Scratch scratch;
     permute(order, scratch);
   }
 

@@ -53,7 +53,7 @@ class ExplicitSolver {
   std::int64_t nonfinite_ = -1; // first particle with a NaN or Inf stress, velocity or volume
   std::vector<Voigt<D>> deferred_eps_;  // USF: this step's strain increments, for the domain update
   BlockSchedule<D> schedule_;           // colour-by-colour scatter order, rebuilt every step
-  std::vector<unsigned char> sort_scratch_;  // storage for the periodic reordering
+  typename Particles<D>::Scratch sort_scratch_;  // storage for the periodic reordering
 };
 
 extern template class ExplicitSolver<2>;

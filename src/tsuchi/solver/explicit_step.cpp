@@ -53,15 +53,13 @@ void ExplicitSolver<D>::step_with(double dt) {
       break;
     case Scheme::USL:
       p2g<Kernel, true, true>();
-      nodal_velocity();
-      solve_grid(dt);
+      nodal_velocity_and_solve(dt, false);
       g2p<Kernel>(dt, false, false);
       update_stress<Kernel>(dt, g.vL_g, true);
       break;
     case Scheme::MUSL:
       p2g<Kernel, true, true>();
-      nodal_velocity();
-      solve_grid(dt);
+      nodal_velocity_and_solve(dt, true);
       g2p<Kernel>(dt, true, false);
       nodal_velocity();
       update_stress<Kernel>(dt, g.v_g, true);
@@ -178,16 +176,43 @@ void ExplicitSolver<D>::solve_grid(double dt) {
   }
 }
 
+// nodal_velocity() then solve_grid() in one pass over the nodes, for USL and MUSL, where nothing
+// comes between them. With `clear_momentum` p_g is zeroed once read, ready for the remap.
+template <int D>
+void ExplicitSolver<D>::nodal_velocity_and_solve(double dt, bool clear_momentum) {
+  auto& g = m_.grid;
+  const double alpha = m_.config.solver.damping;
+  const double floor = m_.node_mass_floor;
+  const auto n = static_cast<std::int64_t>(g.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t k = 0; k < n; ++k) {
+    Vec<D> v = Vec<D>::Zero(), a = Vec<D>::Zero();
+    if (g.m_g[k] > floor) {
+      v = g.p_g[k] / g.m_g[k];
+      for (int d = 0; d < D; ++d) {
+        const double f = g.f_g[k][d];
+        a[d] = (f + local_damping_force(f, v[d], alpha)) / g.m_g[k];
+      }
+    }
+    for (int d = 0; d < D; ++d)
+      if (g.fixed_g[k] & (1u << d)) v[d] = a[d] = 0.0;
+    g.v_g[k] = v;
+    g.a_g[k] = a;
+    g.vL_g[k] = v + dt * a;
+    if (clear_momentum) g.p_g[k] = Vec<D>::Zero();
+  }
+}
+
 // Grid to particle, eqs (7)-(8): FLIP v_p += dt sum S a_g, blended with PIC sum S v^L when asked.
 // Prescribed components are then set (their acceleration is zero). With `remap` the updated
-// particle momenta are projected back to the grid, eq (9) (MUSL). With `move`, eqs (5)-(6).
+// particle momenta are projected back to the grid, eq (9) (MUSL), into a p_g cleared by
+// nodal_velocity_and_solve(). With `move`, eqs (5)-(6).
 template <int D>
 template <class Kernel>
 void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
   auto& g = m_.grid;
   auto& p = m_.particles;
   const double beta = m_.config.solver.pic_fraction;
-  if (remap) zero_nodal(g.p_g);
   const auto particle = [&](std::size_t i) {
     const Vec<D>* const a_g = g.a_g.data();  // local addresses: see p2g
     const Vec<D>* const vL_g = g.vL_g.data();
@@ -242,6 +267,9 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
   const auto& materials = m_.config.materials;
   // An anisotropic initial stress held by eq (2) turns with the material, as the stress does.
   const bool rotate_sigma0 = m_.rotate_initial_stress;
+  // One parallel region for every material group; a thread goes on to the next group without
+  // waiting, as the groups hold different particles.
+#pragma omp parallel
   for (std::size_t mat = 0; mat < materials.size(); ++mat) {
     std::visit(
         [&](const auto& model) {
@@ -252,7 +280,7 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
           // Dynamic: yielding points cost several times more than elastic ones, and they gather
           // in the shear bands. Every point's update is its own, so the result does not depend on
           // which thread takes which chunk.
-#pragma omp parallel for schedule(dynamic, 128)
+#pragma omp for schedule(dynamic, 128) nowait
           for (std::int64_t ii = 0; ii < np; ++ii) {
             const auto i = static_cast<std::size_t>(ii);
             if (p.material_p[i] != static_cast<std::int32_t>(mat)) continue;

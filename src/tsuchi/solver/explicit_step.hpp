@@ -36,6 +36,7 @@ class ExplicitSolver {
   template <class Kernel, bool MassMomentum, bool Force> void p2g();
   void nodal_velocity();
   void solve_grid(double dt);
+  void nodal_velocity_and_solve(double dt, bool clear_momentum);
   template <class Kernel> void g2p(double dt, bool remap, bool move);
   template <class Kernel> void update_stress(double dt, const std::vector<Vec<D>>& v_strain, bool move);
   void impose_motion(std::size_t i, Vec<D>& v) const;

@@ -45,7 +45,7 @@ void ExplicitSolver<D>::step_with(double dt) {
       // same weights as the mass p2g, or momentum is not conserved.
       p2g<Kernel, true, false>();
       nodal_velocity();
-      update_stress<Kernel>(dt, g.v_g, false);
+      update_stress<Kernel, false>(dt, g.v_g);
       p2g<Kernel, false, true>();
       solve_grid(dt);
       g2p<Kernel>(dt, false, true);
@@ -55,23 +55,19 @@ void ExplicitSolver<D>::step_with(double dt) {
       p2g<Kernel, true, true>();
       nodal_velocity_and_solve(dt, false);
       g2p<Kernel>(dt, false, false);
-      update_stress<Kernel>(dt, g.vL_g, true);
+      update_stress<Kernel, true>(dt, g.vL_g);
       break;
     case Scheme::MUSL:
       p2g<Kernel, true, true>();
       nodal_velocity_and_solve(dt, true);
       g2p<Kernel>(dt, true, false);
       nodal_velocity();
-      update_stress<Kernel>(dt, g.v_g, true);
+      update_stress<Kernel, true>(dt, g.v_g);
       break;
   }
   report_faults();
 }
 
-// Particle to grid, eqs (1)-(3): mass, momentum, and f_int = -sum V_p (sigma_p - sigma0_p) . G,
-// f_ext = sum S m_p b.
-// The stages are compile-time flags: the node loop is the hottest loop of the step and should
-// carry no test that is the same for every node.
 namespace {
 
 // Zeroes nodal arrays of one size in one parallel loop: a serial fill would be the largest serial
@@ -94,6 +90,10 @@ void zero_nodal(First& first, Rest&... rest) {
 
 }  // namespace
 
+// Particle to grid, eqs (1)-(3): mass, momentum, and f_int = -sum V_p (sigma_p - sigma0_p) . G,
+// f_ext = sum S m_p b.
+// The stages are compile-time flags: the node loop is the hottest loop of the step and should
+// carry no test that is the same for every node.
 template <int D>
 template <class Kernel, bool MassMomentum, bool Force>
 void ExplicitSolver<D>::p2g() {
@@ -254,15 +254,15 @@ void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
 }
 
 // Strain and spin increments from the grid velocity, eq (10); Jaumann rotation (22) and the
-// constitutive update (11); volume (12), GIMP domain (14); with `move` also positions (5)-(6).
+// constitutive update (11); volume (12), GIMP domain (14); with Move also positions (5)-(6).
 // The material is chosen once per material group, outside the particle loop.
 template <int D>
-template <class Kernel>
-void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_strain, bool move) {
+template <class Kernel, bool Move>
+void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_strain) {
   auto& g = m_.grid;
   auto& p = m_.particles;
   const bool domain_update = m_.config.solver.shape == ShapeKind::Gimp;
-  const bool defer_domain = !move;  // USF: the step's later stages still need this step's weights
+  const bool defer_domain = !Move;  // USF: the step's later stages still need this step's weights
   if (domain_update && defer_domain) deferred_eps_.resize(p.size());
   const auto& materials = m_.config.materials;
   // An anisotropic initial stress held by eq (2) turns with the material, as the stress does.
@@ -297,11 +297,11 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
                 const auto k = st.offx[a] + st.row[r];
                 row_w += st.wx[a] * v_g[k];
                 row_dw += st.dwx[a] * v_g[k];
-                if (move) row_vL += st.wx[a] * vL_g[k];
+                if constexpr (Move) row_vL += st.wx[a] * vL_g[k];
               }
               L.col(0) += st.T[r] * row_dw;
               for (int d = 1; d < D; ++d) L.col(d) += st.dT[r][d - 1] * row_w;
-              if (move) vL += st.T[r] * row_vL;
+              if constexpr (Move) vL += st.T[r] * row_vL;
             }
             const Voigt<D> d_eps = dt * sym_voigt<D>(L);
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
@@ -325,7 +325,7 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
               if (defer_domain) deferred_eps_[i] = d_eps;
               else update_particle_domain<D>(p.l_p[i], d_eps, g.h);
             }
-            if (move) move_particle(i, dt, vL);
+            if constexpr (Move) move_particle(i, dt, vL);
           }
         },
         materials[mat].model);

@@ -38,7 +38,7 @@ class ExplicitSolver {
   void solve_grid(double dt);
   void nodal_velocity_and_solve(double dt, bool clear_momentum);
   template <class Kernel> void g2p(double dt, bool remap, bool move);
-  template <class Kernel> void update_stress(double dt, const std::vector<Vec<D>>& v_strain, bool move);
+  template <class Kernel, bool Move> void update_stress(double dt, const std::vector<Vec<D>>& v_strain);
   void impose_motion(std::size_t i, Vec<D>& v) const;
   void move_particle(std::size_t i, double dt, Vec<D> vL);
   void apply_deferred_domain_update();

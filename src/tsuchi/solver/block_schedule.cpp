@@ -55,6 +55,30 @@ void BlockSchedule<D>::build(const Grid<D>& grid, const std::vector<Vec<D>>& x) 
     }
     colour_blocks_[colour].push_back(static_cast<std::int32_t>(b));
   }
+  // Active tiles: each non-empty block's tile and its neighbours.
+  std::array<int, D> tiles{};
+  std::int64_t n_tiles = 1;
+  for (int d = 0; d < D; ++d) tiles[d] = grid.tiles(d), n_tiles *= tiles[d];
+  tile_mark_.assign(static_cast<std::size_t>(n_tiles), 0);
+  for (std::int64_t b = 0; b < n_blocks; ++b) {
+    if (start_[b + 1] == start_[b]) continue;
+    std::array<int, D> c{};
+    std::int64_t rest = b;
+    for (int d = 0; d < D; ++d) c[d] = static_cast<int>(rest % blocks_[d]), rest /= blocks_[d];
+    for (int j = 0; j < (D == 2 ? 9 : 27); ++j) {  // the 3^D tiles around
+      std::int64_t t = 0, stride = 1;
+      bool inside = true;
+      for (int d = 0, m = j; d < D; ++d, m /= 3) {
+        const int q = c[d] + m % 3 - 1;
+        inside = inside && q >= 0 && q < tiles[d];
+        t += q * stride, stride *= tiles[d];
+      }
+      if (inside) tile_mark_[static_cast<std::size_t>(t)] = 1;
+    }
+  }
+  active_tiles_.clear();
+  for (std::int64_t t = 0; t < n_tiles; ++t)
+    if (tile_mark_[static_cast<std::size_t>(t)]) active_tiles_.push_back(static_cast<std::int32_t>(t));
   // Fullest blocks first, so that the threads end a colour on small blocks and wait less for each
   // other. Blocks of one colour write disjoint nodes: their order does not change any result.
   for (auto& c : colour_blocks_)

@@ -23,7 +23,7 @@ namespace tsuchi {
 template <int D>
 class BlockSchedule {
  public:
-  static constexpr int B = 4;                  // cells per block per axis
+  static constexpr int B = Grid<D>::T;         // cells per block per axis: a block is a tile
   static constexpr int kColours = 1 << D;
 
   void build(const Grid<D>& grid, const std::vector<Vec<D>>& x);
@@ -48,6 +48,21 @@ class BlockSchedule {
   // Particle indices in block order: the order a locality-improving reordering would follow.
   const std::vector<std::int32_t>& order() const { return order_; }
 
+  // Calls f(k) for every node slot of the active tiles, in parallel: the tiles of the non-empty
+  // blocks and their neighbours, which hold every node a particle's stencil reaches (a block is a
+  // tile, and a stencil reaches at most one node beyond its block, see above). Nodes elsewhere
+  // carry nothing, so the grid loops skip them; a tile is cleared by p2g when it becomes active.
+  template <class F>
+  void for_active_nodes(F&& f) const {
+    constexpr std::int64_t nodes = Grid<D>::kTileNodes;
+    const auto nt = static_cast<std::int64_t>(active_tiles_.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t t = 0; t < nt; ++t) {
+      const std::int64_t first = active_tiles_[static_cast<std::size_t>(t)] * nodes;
+      for (std::int64_t k = first; k < first + nodes; ++k) f(k);
+    }
+  }
+
  private:
   bool valid_ = false;                          // built, and the particles not reordered since
   std::array<int, D> blocks_{};
@@ -56,6 +71,8 @@ class BlockSchedule {
   std::vector<std::int32_t> order_;             // particle indices grouped by block, increasing within
   std::vector<std::int64_t> fill_;              // counting-sort cursors
   std::array<std::vector<std::int32_t>, kColours> colour_blocks_;  // non-empty blocks of each colour
+  std::vector<std::int32_t> active_tiles_;      // increasing
+  std::vector<unsigned char> tile_mark_;        // per tile, while active_tiles_ is built
 };
 
 extern template class BlockSchedule<2>;

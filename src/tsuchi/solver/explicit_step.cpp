@@ -70,22 +70,17 @@ void ExplicitSolver<D>::step_with(double dt) {
 
 namespace {
 
-// Zeroes nodal arrays of one size in one parallel loop: a serial fill would be the largest serial
-// part of the step.
+// Zeroes nodal arrays on the active tiles, in one parallel loop: a serial fill of the whole grid
+// would be the largest serial part of the step.
 template <class T>
 T zero_of() {
   if constexpr (std::is_arithmetic_v<T>) return T{0};
   else return T::Zero();
 }
 
-template <class First, class... Rest>
-void zero_nodal(First& first, Rest&... rest) {
-  const auto n = static_cast<std::int64_t>(first.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t k = 0; k < n; ++k) {
-    first[k] = zero_of<typename First::value_type>();
-    ((rest[k] = zero_of<typename Rest::value_type>()), ...);
-  }
+template <int D, class... Arrays>
+void zero_nodal(const BlockSchedule<D>& schedule, Arrays&... a) {
+  schedule.for_active_nodes([&](std::int64_t k) { ((a[k] = zero_of<typename Arrays::value_type>()), ...); });
 }
 
 }  // namespace
@@ -99,9 +94,9 @@ template <class Kernel, bool MassMomentum, bool Force>
 void ExplicitSolver<D>::p2g() {
   auto& g = m_.grid;
   const auto& p = m_.particles;
-  if constexpr (MassMomentum && Force) zero_nodal(g.m_g, g.p_g, g.f_g);
-  else if constexpr (MassMomentum) zero_nodal(g.m_g, g.p_g);
-  else zero_nodal(g.f_g);
+  if constexpr (MassMomentum && Force) zero_nodal(schedule_, g.m_g, g.p_g, g.f_g);
+  else if constexpr (MassMomentum) zero_nodal(schedule_, g.m_g, g.p_g);
+  else zero_nodal(schedule_, g.f_g);
   Vec<D> b;
   for (int d = 0; d < D; ++d) b[d] = m_.config.gravity[d];
   schedule_.scatter([&](std::size_t i) {
@@ -143,14 +138,12 @@ template <int D>
 void ExplicitSolver<D>::nodal_velocity() {
   auto& g = m_.grid;
   const double floor = m_.node_mass_floor;
-  const auto n = static_cast<std::int64_t>(g.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t k = 0; k < n; ++k) {
+  schedule_.for_active_nodes([&](std::int64_t k) {
     Vec<D> v = g.m_g[k] > floor ? Vec<D>(g.p_g[k] / g.m_g[k]) : Vec<D>::Zero();
     for (int d = 0; d < D; ++d)
       if (g.fixed_g[k] & (1u << d)) v[d] = 0.0;
     g.v_g[k] = v;
-  }
+  });
 }
 
 // Grid momentum balance, eq (4), with local damping and boundary conditions:
@@ -160,9 +153,7 @@ void ExplicitSolver<D>::solve_grid(double dt) {
   auto& g = m_.grid;
   const double alpha = m_.config.solver.damping;
   const double floor = m_.node_mass_floor;
-  const auto n = static_cast<std::int64_t>(g.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t k = 0; k < n; ++k) {
+  schedule_.for_active_nodes([&](std::int64_t k) {
     Vec<D> a = Vec<D>::Zero();
     if (g.m_g[k] > floor) {
       for (int d = 0; d < D; ++d) {
@@ -173,7 +164,7 @@ void ExplicitSolver<D>::solve_grid(double dt) {
     }
     g.a_g[k] = a;
     g.vL_g[k] = g.v_g[k] + dt * a;
-  }
+  });
 }
 
 // nodal_velocity() then solve_grid() in one pass over the nodes, for USL and MUSL, where nothing
@@ -183,9 +174,7 @@ void ExplicitSolver<D>::nodal_velocity_and_solve(double dt, bool clear_momentum)
   auto& g = m_.grid;
   const double alpha = m_.config.solver.damping;
   const double floor = m_.node_mass_floor;
-  const auto n = static_cast<std::int64_t>(g.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t k = 0; k < n; ++k) {
+  schedule_.for_active_nodes([&](std::int64_t k) {
     Vec<D> v = Vec<D>::Zero(), a = Vec<D>::Zero();
     if (g.m_g[k] > floor) {
       v = g.p_g[k] / g.m_g[k];
@@ -200,7 +189,7 @@ void ExplicitSolver<D>::nodal_velocity_and_solve(double dt, bool clear_momentum)
     g.a_g[k] = a;
     g.vL_g[k] = v + dt * a;
     if (clear_momentum) g.p_g[k] = Vec<D>::Zero();
-  }
+  });
 }
 
 // Grid to particle, eqs (7)-(8): FLIP v_p += dt sum S a_g, blended with PIC sum S v^L when asked.

@@ -2,6 +2,7 @@
 // (eqs 18-19). Every check compares a computed quantity with an independent value at a stated
 // tolerance.
 #include "tsuchi/grid/grid.hpp"
+#include "tsuchi/shape/axis_weights.hpp"
 #include "tsuchi/shape/gimp.hpp"
 #include "tsuchi/shape/linear.hpp"
 #include "tsuchi/shape/stencil.hpp"
@@ -24,6 +25,7 @@ using tsuchi::shape::gimp_S;
 using tsuchi::shape::GimpKernel;
 using tsuchi::shape::linear_dS;
 using tsuchi::shape::linear_S;
+using tsuchi::shape::axis_weights;
 using tsuchi::shape::LinearKernel;
 
 constexpr int kSamples = 2000;  // random particle positions per case
@@ -246,7 +248,7 @@ TEST(GimpKernel, ThreeNodesAroundTheNearestOne) {
     for (int k = 0; k < 1000; ++k) {
       const double s = u(rng);
       std::array<double, GimpKernel::K> w{}, dw{};
-      const int c = GimpKernel::weights(s, 1.0 / L, lp, w.data(), dw.data());
+      const int c = axis_weights<GimpKernel>(s, 1.0 / L, lp, w.data(), dw.data());
       ASSERT_EQ(GimpKernel::K, 3);
       // The middle node c + 1 is the nearest one (ties at half-integers accepted either way).
       const double dmid = std::abs(s - (c + 1));
@@ -269,7 +271,7 @@ TEST(GimpKernel, NodeExactlyUnderParticle) {
   // s on node 5: nodes 4, 5, 6 with weights (lp/4L, 1 - lp/2L, lp/4L) and the middle one nearest.
   const double L = 1.0, lp = 0.25;
   std::array<double, 3> w{}, dw{};
-  const int c = GimpKernel::weights(5.0, 1.0 / L, lp, w.data(), dw.data());
+  const int c = axis_weights<GimpKernel>(5.0, 1.0 / L, lp, w.data(), dw.data());
   EXPECT_EQ(c, 4);
   EXPECT_NEAR(w[0], lp / (4.0 * L), 1e-15);
   EXPECT_NEAR(w[1], 1.0 - lp / (2.0 * L), 1e-15);
@@ -353,7 +355,7 @@ TEST(LinearShape, HandValues) {
 
 TEST(LinearShape, KernelWeights) {
   std::array<double, 2> w{}, dw{};
-  const int c = LinearKernel::weights(3.25, 1.0 / 0.5, 0.0, w.data(), dw.data());
+  const int c = axis_weights<LinearKernel>(3.25, 1.0 / 0.5, 0.0, w.data(), dw.data());
   EXPECT_EQ(c, 3);
   EXPECT_DOUBLE_EQ(w[0], 0.75);
   EXPECT_DOUBLE_EQ(w[1], 0.25);
@@ -362,7 +364,7 @@ TEST(LinearShape, KernelWeights) {
   // Consistent with the 1D function of the node distance.
   for (double s : {0.1, 2.5, 7.99}) {
     const double L = 0.3;
-    const int i = LinearKernel::weights(s, 1.0 / L, 0.0, w.data(), dw.data());
+    const int i = axis_weights<LinearKernel>(s, 1.0 / L, 0.0, w.data(), dw.data());
     for (int k = 0; k < 2; ++k) {
       const double xi = (s - (i + k)) * L;
       EXPECT_NEAR(w[static_cast<std::size_t>(k)], linear_S(xi, L), 1e-14) << "s = " << s;

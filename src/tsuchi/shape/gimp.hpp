@@ -70,14 +70,6 @@ struct GimpKernel {
     dw[1] = -dw[0] - dw[2];
     return c;
   }
-
-  // One axis: fills w[0..K), dw[0..K) and returns the first node index.
-  static inline int weights(double s, double inv_L, double lp, double* w, double* dw) {
-    std::array<Eigen::Array<double, 1, 1>, K> w1, dw1;
-    const int c = weights<1>(Eigen::Array<double, 1, 1>(s), inv_L, Eigen::Array<double, 1, 1>(lp), w1, dw1)[0];
-    for (int k = 0; k < K; ++k) w[k] = w1[k][0], dw[k] = dw1[k][0];
-    return c;
-  }
 };
 
 }  // namespace tsuchi::shape

@@ -53,7 +53,7 @@ class ExplicitSolver {
   std::int64_t inverted_ = -1;  // first particle whose volume went to zero or below
   std::int64_t nonfinite_ = -1; // first particle with a NaN or Inf stress, velocity or volume
   std::vector<Voigt<D>> deferred_eps_;  // USF: this step's strain increments, for the domain update
-  BlockSchedule<D> schedule_;           // colour-by-colour scatter order, rebuilt every step
+  BlockSchedule<D> schedule_;           // colour-by-colour scatter order, brought up to date every step
   typename Particles<D>::Scratch sort_scratch_;  // storage for the periodic reordering
 };
 

@@ -323,7 +323,7 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
 
 // Prescribed components take the prescribed value, evaluated at the start-of-step position.
 template <int D>
-void ExplicitSolver<D>::impose_motion(std::size_t i, Vec<D>& v) const {
+inline void ExplicitSolver<D>::impose_motion(std::size_t i, Vec<D>& v) const {
   const auto& motion = m_.motion[m_.particles.body_p[i]];
   if (!motion.any) return;
   for (int d = 0; d < D; ++d)
@@ -333,7 +333,7 @@ void ExplicitSolver<D>::impose_motion(std::size_t i, Vec<D>& v) const {
 // Eqs (5)-(6) with the interpolated v^L; a prescribed component moves the particle at exactly the
 // prescribed velocity, so a loading platen travels as specified whatever the soil beneath it does.
 template <int D>
-void ExplicitSolver<D>::move_particle(std::size_t i, double dt, Vec<D> vL) {
+inline void ExplicitSolver<D>::move_particle(std::size_t i, double dt, Vec<D> vL) {
   auto& p = m_.particles;
   impose_motion(i, vL);
   p.x_p[i] += dt * vL;

@@ -39,8 +39,9 @@ class ExplicitSolver {
   void nodal_velocity_and_solve(double dt, bool clear_momentum);
   template <class Kernel> void g2p(double dt, bool remap, bool move);
   template <class Kernel, bool Move> void update_stress(double dt, const std::vector<Vec<D>>& v_strain);
-  void impose_motion(std::size_t i, Vec<D>& v) const;
-  void move_particle(std::size_t i, double dt, Vec<D> vL);
+  // Inlined: both run for every particle in the innermost stages.
+  [[gnu::always_inline]] inline void impose_motion(std::size_t i, Vec<D>& v) const;
+  [[gnu::always_inline]] inline void move_particle(std::size_t i, double dt, Vec<D> vL);
   void apply_deferred_domain_update();
   void report_faults() const;
   std::string describe_particle(std::size_t i) const;

@@ -37,9 +37,11 @@ class BlockSchedule {
     for (int c = 0; c < kColours; ++c) {
       const auto& blocks = colour_blocks_[c];
       const auto nb = static_cast<std::int64_t>(blocks.size());
-      // Runs of 4 blocks per grab: two same-colour blocks two apart both write the tile between
-      // them, and threads taking alternate blocks would write the same cache lines at once.
-#pragma omp parallel for schedule(dynamic, 4)
+      // Runs of blocks per grab: two same-colour blocks two apart both write the tile between
+      // them, and threads taking alternate blocks would write the same cache lines at once. Runs
+      // of 2 when a colour has few blocks, so that the threads still end close together.
+      const std::int64_t run = nb >= 64 ? 4 : 2;
+#pragma omp parallel for schedule(dynamic, run)
       for (std::int64_t k = 0; k < nb; ++k) {
         const std::int32_t b = blocks[static_cast<std::size_t>(k)];
         for (std::int64_t j = start_[b]; j < start_[b + 1]; ++j) f(static_cast<std::size_t>(order_[j]));

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 namespace tsuchi {
 
@@ -25,6 +26,14 @@ template <int D>
 using Voigt = Eigen::Matrix<double, n_voigt<D>, 1>;
 
 using Mat3 = Eigen::Matrix3d;
+
+// Zero of a number or of an Eigen fixed-size type, for code written over both (per-particle and
+// per-node arrays).
+template <class T>
+T zero_of() {
+  if constexpr (std::is_arithmetic_v<T>) return T{0};
+  else return T::Zero();
+}
 
 // Row/column of each shear entry in Voigt order (entries 0..2 are the diagonal).
 inline constexpr std::array<std::array<int, 2>, 6> voigt_index{

@@ -52,8 +52,7 @@ struct Particles {
     const std::size_t old = size();
     for_each_array([n](const char*, auto& a) {
       using T = typename std::decay_t<decltype(a)>::value_type;
-      if constexpr (std::is_arithmetic_v<T>) a.resize(n, T{0});
-      else a.resize(n, T::Zero());
+      a.resize(n, zero_of<T>());
     });
     for (std::size_t i = old; i < n; ++i) c_scale_p[i] = phi_scale_p[i] = 1.0;
   }

@@ -44,27 +44,23 @@ void BlockSchedule<D>::build(const Grid<D>& grid, const std::vector<Vec<D>>& x) 
   order_.resize(x.size());
   fill_.assign(start_.begin(), start_.end() - 1);  // reuses its storage: no allocation per step
   for (std::int64_t i = 0; i < n; ++i) order_[fill_[block_of_[i]]++] = static_cast<std::int32_t>(i);
-  for (auto& c : colour_blocks_) c.clear();
-  for (std::int64_t b = 0; b < n_blocks; ++b) {
-    if (start_[b + 1] == start_[b]) continue;
-    int colour = 0;
-    std::int64_t rest = b;
-    for (int d = 0; d < D; ++d) {
-      colour |= static_cast<int>((rest % blocks_[d]) & 1) << d;
-      rest /= blocks_[d];
-    }
-    colour_blocks_[colour].push_back(static_cast<std::int32_t>(b));
-  }
-  // Active tiles: each non-empty block's tile and its neighbours.
+  // Each non-empty block joins the list of its colour and marks its tile and the neighbouring
+  // ones active.
   std::array<int, D> tiles{};
   std::int64_t n_tiles = 1;
   for (int d = 0; d < D; ++d) tiles[d] = grid.tiles(d), n_tiles *= tiles[d];
   tile_mark_.assign(static_cast<std::size_t>(n_tiles), 0);
+  for (auto& c : colour_blocks_) c.clear();
   for (std::int64_t b = 0; b < n_blocks; ++b) {
     if (start_[b + 1] == start_[b]) continue;
     std::array<int, D> c{};
+    int colour = 0;
     std::int64_t rest = b;
-    for (int d = 0; d < D; ++d) c[d] = static_cast<int>(rest % blocks_[d]), rest /= blocks_[d];
+    for (int d = 0; d < D; ++d) {
+      c[d] = static_cast<int>(rest % blocks_[d]), rest /= blocks_[d];
+      colour |= (c[d] & 1) << d;
+    }
+    colour_blocks_[colour].push_back(static_cast<std::int32_t>(b));
     for (int j = 0; j < (D == 2 ? 9 : 27); ++j) {  // the 3^D tiles around
       std::int64_t t = 0, stride = 1;
       bool inside = true;

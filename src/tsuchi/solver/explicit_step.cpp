@@ -72,12 +72,6 @@ namespace {
 
 // Zeroes nodal arrays on the active tiles, in one parallel loop: a serial fill of the whole grid
 // would be the largest serial part of the step.
-template <class T>
-T zero_of() {
-  if constexpr (std::is_arithmetic_v<T>) return T{0};
-  else return T::Zero();
-}
-
 template <int D, class... Arrays>
 void zero_nodal(const BlockSchedule<D>& schedule, Arrays&... a) {
   schedule.for_active_nodes([&](std::int64_t k) { ((a[k] = zero_of<typename Arrays::value_type>()), ...); });
@@ -133,37 +127,45 @@ void ExplicitSolver<D>::p2g() {
   });
 }
 
-// v_g = p_g / m_g on nodes heavier than the floor, then the velocity boundary conditions.
+// v_g = p_g / m_g on a node heavier than the floor, then the velocity boundary conditions.
+template <int D>
+inline Vec<D> ExplicitSolver<D>::velocity_at(std::int64_t k) const {
+  const auto& g = m_.grid;
+  Vec<D> v = g.m_g[k] > m_.node_mass_floor ? Vec<D>(g.p_g[k] / g.m_g[k]) : Vec<D>::Zero();
+  for (int d = 0; d < D; ++d)
+    if (g.fixed_g[k] & (1u << d)) v[d] = 0.0;
+  return v;
+}
+
+// Grid momentum balance at a node, eq (4), with local damping and the boundary conditions:
+// a_g = (f + f_damp(f, v_g)) / m_g.
+template <int D>
+inline Vec<D> ExplicitSolver<D>::acceleration_at(std::int64_t k, const Vec<D>& v) const {
+  const auto& g = m_.grid;
+  Vec<D> a = Vec<D>::Zero();
+  if (g.m_g[k] > m_.node_mass_floor) {
+    for (int d = 0; d < D; ++d) {
+      const double f = g.f_g[k][d];
+      a[d] = (f + local_damping_force(f, v[d], m_.config.solver.damping)) / g.m_g[k];
+      if (g.fixed_g[k] & (1u << d)) a[d] = 0.0;
+    }
+  }
+  return a;
+}
+
 template <int D>
 void ExplicitSolver<D>::nodal_velocity() {
   auto& g = m_.grid;
-  const double floor = m_.node_mass_floor;
-  schedule_.for_active_nodes([&](std::int64_t k) {
-    Vec<D> v = g.m_g[k] > floor ? Vec<D>(g.p_g[k] / g.m_g[k]) : Vec<D>::Zero();
-    for (int d = 0; d < D; ++d)
-      if (g.fixed_g[k] & (1u << d)) v[d] = 0.0;
-    g.v_g[k] = v;
-  });
+  schedule_.for_active_nodes([&](std::int64_t k) { g.v_g[k] = velocity_at(k); });
 }
 
-// Grid momentum balance, eq (4), with local damping and boundary conditions:
-// a_g = (f + f_damp) / m_g, v^L = v_g + dt a_g.
+// a_g, and v^L = v_g + dt a_g.
 template <int D>
 void ExplicitSolver<D>::solve_grid(double dt) {
   auto& g = m_.grid;
-  const double alpha = m_.config.solver.damping;
-  const double floor = m_.node_mass_floor;
   schedule_.for_active_nodes([&](std::int64_t k) {
-    Vec<D> a = Vec<D>::Zero();
-    if (g.m_g[k] > floor) {
-      for (int d = 0; d < D; ++d) {
-        const double f = g.f_g[k][d];
-        a[d] = (f + local_damping_force(f, g.v_g[k][d], alpha)) / g.m_g[k];
-        if (g.fixed_g[k] & (1u << d)) a[d] = 0.0;
-      }
-    }
-    g.a_g[k] = a;
-    g.vL_g[k] = g.v_g[k] + dt * a;
+    g.a_g[k] = acceleration_at(k, g.v_g[k]);
+    g.vL_g[k] = g.v_g[k] + dt * g.a_g[k];
   });
 }
 
@@ -172,19 +174,8 @@ void ExplicitSolver<D>::solve_grid(double dt) {
 template <int D>
 void ExplicitSolver<D>::nodal_velocity_and_solve(double dt, bool clear_momentum) {
   auto& g = m_.grid;
-  const double alpha = m_.config.solver.damping;
-  const double floor = m_.node_mass_floor;
   schedule_.for_active_nodes([&](std::int64_t k) {
-    Vec<D> v = Vec<D>::Zero(), a = Vec<D>::Zero();
-    if (g.m_g[k] > floor) {
-      v = g.p_g[k] / g.m_g[k];
-      for (int d = 0; d < D; ++d) {
-        const double f = g.f_g[k][d];
-        a[d] = (f + local_damping_force(f, v[d], alpha)) / g.m_g[k];
-      }
-    }
-    for (int d = 0; d < D; ++d)
-      if (g.fixed_g[k] & (1u << d)) v[d] = a[d] = 0.0;
+    const Vec<D> v = velocity_at(k), a = acceleration_at(k, v);
     g.v_g[k] = v;
     g.a_g[k] = a;
     g.vL_g[k] = v + dt * a;

@@ -34,6 +34,8 @@ class ExplicitSolver {
  private:
   template <class Kernel> void step_with(double dt);
   template <class Kernel, bool MassMomentum, bool Force> void p2g();
+  Vec<D> velocity_at(std::int64_t k) const;
+  Vec<D> acceleration_at(std::int64_t k, const Vec<D>& v) const;
   void nodal_velocity();
   void solve_grid(double dt);
   void nodal_velocity_and_solve(double dt, bool clear_momentum);

@@ -17,7 +17,8 @@ constexpr double kPa = 1e3;
 double deg(double d) { return d * pi / 180.0; }
 
 // The paper's soil (test 1 moduli): c = 8.5 kPa, phi = 30.5 deg, G = 1311 kPa, nu = 0.2.
-MohrCoulomb soil(double psi_deg = 0.0, TensionRule rule = TensionRule::Flac) {
+MohrCoulomb soil(double psi_deg = 0.0, TensionRule rule = TensionRule::Flac,
+                 TensionSelection selection = TensionSelection::Flac) {
   MohrCoulomb m;
   m.elastic = LinearElastic::from_shear(1311 * kPa, 0.2);
   m.cohesion = 8.5 * kPa;
@@ -25,6 +26,7 @@ MohrCoulomb soil(double psi_deg = 0.0, TensionRule rule = TensionRule::Flac) {
   m.psi = deg(psi_deg);
   m.tension = 0.0;
   m.tension_rule = rule;
+  m.tension_selection = selection;
   return m;
 }
 
@@ -62,7 +64,13 @@ void check_random_returns(const MohrCoulomb& m, unsigned seed) {
     }
     if (mode == YieldMode::Tension) {
       ++tension;
-      ASSERT_LT(std::abs(f_t), 1e-9 * scale) << "k = " << k;
+      // The paper's release may be followed by a shear return that leaves the tension plane.
+      if (m.tension_rule == TensionRule::Flac) ASSERT_LT(std::abs(f_t), 1e-9 * scale) << "k = " << k;
+      else ASSERT_LT(std::min(std::abs(f_t), std::abs(f_s)), 1e-9 * scale) << "k = " << k;
+    }
+    if (mode != YieldMode::Elastic && m.psi == 0.0) {
+      // psi = 0: shear flow has no volume change and a tension release only opens.
+      ASSERT_GE(st.plastic_volume, -1e-15 * std::abs(st.plastic_shear)) << "k = " << k;
     }
     ASSERT_GT(f_s, -1e-9 * scale) << "outside the shear surface after return, k = " << k;
     ASSERT_GT(f_t, -1e-9 * scale) << "outside the tension surface after return, k = " << k;
@@ -79,6 +87,13 @@ TEST(MohrCoulomb, ReturnLandsOnTheSurfaceAndNeverOutside) {
   MohrCoulomb with_tension = soil(0.0);
   with_tension.tension = 4 * kPa;
   check_random_returns(with_tension, 44);
+  for (auto rule : {TensionRule::Flac, TensionRule::Paper})
+    for (auto selection : {TensionSelection::Flac, TensionSelection::Paper}) {
+      check_random_returns(soil(0.0, rule, selection), 45);
+      MohrCoulomb m = soil(10.0, rule, selection);
+      m.tension = 3 * kPa;
+      check_random_returns(m, 46);
+    }
 }
 
 // Plane-strain compression from an isotropic state sigma3 = p: eps_yy driven, sigma_xx held at -p
@@ -166,15 +181,57 @@ TEST(MohrCoulomb, TensionFlacRuleHoldsTheLargestStressAtSigmaT) {
   EXPECT_NEAR(sig[0], 5 * kPa, 1e-9 * kPa);
 }
 
-TEST(MohrCoulomb, TensionPaperRuleReleasesTheStress) {
-  const MohrCoulomb m = soil(0.0, TensionRule::Paper);  // sigma_t = 0
-  Voigt<2> sig;
-  sig << -1 * kPa, -1 * kPa, -1 * kPa, 0.0;
+// Eq (28) as a release: stretched along x and squeezed along y (plane strain), the x stress drops
+// to sigma_t = 0 and the compression along y and z is kept; the booked plastic strain is the
+// opening C (sigma_trial - sigma), with volume change s_xx_trial / 3K > 0.
+TEST(MohrCoulomb, TensionPaperRuleReleasesOnlyTheTensileDirection) {
+  for (auto selection : {TensionSelection::Flac, TensionSelection::Paper}) {
+    const MohrCoulomb m = soil(0.0, TensionRule::Paper, selection);  // sigma_t = 0
+    Voigt<2> sig;
+    sig << -1 * kPa, -1 * kPa, -1 * kPa, 0.0;
+    Voigt<2> d;
+    d << 1e-3, -1e-3, 0.0, 0.0;
+    const double two_G = 2 * m.elastic.G;  // trial: s_xx = -1 kPa + 2G 1e-3, s_yy = -1 kPa - 2G 1e-3
+    PlasticPoint st;
+    EXPECT_EQ(m.update<2>(sig, d, st), YieldMode::Tension);
+    EXPECT_EQ(sig[0], 0.0);
+    EXPECT_NEAR(sig[1], -1 * kPa - two_G * 1e-3, 1e-9 * kPa);
+    EXPECT_NEAR(sig[2], -1 * kPa, 1e-9 * kPa);
+    EXPECT_NEAR(sig[3], 0.0, 1e-9 * kPa);
+    const double released = -1 * kPa + two_G * 1e-3;
+    EXPECT_NEAR(st.plastic_volume, released / (3 * m.elastic.K), 1e-12);
+    EXPECT_GT(st.plastic_volume, 0.0);
+  }
+}
+
+// The literal reset to sigma_t on the diagonal would erase the squeeze: repeated stretch-squeeze
+// steps of a released point must keep building compression along y, as an elastic body would.
+TEST(MohrCoulomb, TensionPaperRuleKeepsResistingCompression) {
+  const MohrCoulomb m = soil(0.0, TensionRule::Paper, TensionSelection::Paper);
+  Voigt<2> sig = Voigt<2>::Zero();
   Voigt<2> d;
-  d << 1e-2, 0.0, 0.0, 2e-3;  // pulled apart and sheared
+  d << 1e-4, -1e-4, 0.0, 0.0;
   PlasticPoint st;
-  EXPECT_EQ(m.update<2>(sig, d, st), YieldMode::Tension);
-  for (int i = 0; i < 4; ++i) EXPECT_EQ(sig[i], 0.0) << i;
+  for (int n = 0; n < 10; ++n) m.update<2>(sig, d, st);
+  // Each step adds 2G 1e-4 to s_xx (released to 0 again) and -2G 1e-4 to s_yy (kept); the point
+  // stays inside the shear surface, so s_yy = -10 2G 1e-4. The reset would leave -2G 1e-4.
+  EXPECT_NEAR(sig[1], -10 * 2 * m.elastic.G * 1e-4, 1e-9 * kPa);
+  EXPECT_EQ(sig[0], 0.0);
+  EXPECT_NEAR(st.plastic_volume, 10 * 2 * m.elastic.G * 1e-4 / (3 * m.elastic.K), 1e-12);
+}
+
+// The paper's selection: a point beyond both surfaces with s3 > sigma_t fails in tension even where
+// FLAC's h-function says shear.
+TEST(MohrCoulomb, TensionSelectionPaperTakesEveryPointAboveSigmaT) {
+  const MohrCoulomb flac = soil(0.0, TensionRule::Paper, TensionSelection::Flac);
+  const MohrCoulomb paper = soil(0.0, TensionRule::Paper, TensionSelection::Paper);
+  Voigt<2> trial;
+  trial << 0.5 * kPa, -60 * kPa, -20 * kPa, 0.0;  // s3 just above 0, deep beyond the shear surface
+  Voigt<2> a = trial, b = trial;
+  PlasticPoint sa, sb;
+  EXPECT_EQ(flac.correct<2>(a, flac.strength(), sa), YieldMode::Shear);
+  EXPECT_EQ(paper.correct<2>(b, paper.strength(), sb), YieldMode::Tension);
+  EXPECT_GE(MohrCoulomb::shear_yield(PrincipalFrame<2>(b).values, paper.strength()), -1e-9 * kPa);
 }
 
 TEST(MohrCoulomb, ObjectiveUnderRotation) {

@@ -331,9 +331,11 @@ std::string describe_material(const Material& m) {
                               m.is_plastic() ? "mohr_coulomb" : "linear_elastic", m.density, e.G, nu);
   if (const auto* mc = std::get_if<MohrCoulomb>(&m.model)) {
     constexpr double deg = 180.0 / std::numbers::pi;
-    r += fmt::format(", c = {:.6g} Pa, phi = {:.6g} deg, psi = {:.6g} deg, tension strength {:.6g} Pa ({} rule)",
+    r += fmt::format(", c = {:.6g} Pa, phi = {:.6g} deg, psi = {:.6g} deg, tension strength {:.6g} Pa "
+                     "({} rule, {} selection)",
                      mc->cohesion, mc->phi * deg, mc->psi * deg, mc->tension,
-                     mc->tension_rule == TensionRule::Flac ? "flac" : "paper");
+                     mc->tension_rule == TensionRule::Flac ? "flac" : "paper",
+                     mc->tension_selection == TensionSelection::Flac ? "flac" : "paper");
   }
   return r;
 }

@@ -34,6 +34,7 @@ MohrCoulomb read_mohr_coulomb(Section& s, const LinearElastic& elastic) {
   m.tension = s.number("tension_strength", "a tension strength >= 0 in Pa", non_negative, 0.0);
   m.tension = std::min(m.tension, m.cohesion / std::tan(m.phi));
   m.tension_rule = static_cast<TensionRule>(s.choice("tension_rule", {"flac", "paper"}, 0));
+  m.tension_selection = static_cast<TensionSelection>(s.choice("tension_selection", {"flac", "paper"}, 0));
   return m;
 }
 

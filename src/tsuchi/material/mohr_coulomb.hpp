@@ -5,9 +5,15 @@
 //
 //   shear yield    f_s = s1 - s3 N_phi + 2 c sqrt(N_phi)  < 0      (24)
 //   tension yield  f_t = sigma_t - s3                      < 0
-//   which one      h   = s3 - sigma_t + a_P (s1 - sigma_P): shear if h <= 0
+//   which one      FLAC: h = s3 - sigma_t + a_P (s1 - sigma_P), shear if h <= 0;
+//                  the paper: tension whenever s3 > sigma_t ("exceeds the tension strength")
 //
 // The return keeps the principal directions and corrects the principal values only.
+//
+// Plastic strain booked: the inelastic part of the step, C (sigma_trial - sigma), C the elastic
+// compliance. For a shear return that is lambda g (eq 26); for a tension release it is the opening
+// of the released directions. A release lowers principal values only, never raises one, so its
+// volumetric part tr(sigma_trial - sigma) / 3K is >= 0: releasing tension cannot compact.
 #include "tsuchi/core/principal.hpp"
 #include "tsuchi/core/principal_frame.hpp"
 #include "tsuchi/material/linear_elastic.hpp"
@@ -23,8 +29,14 @@ enum class YieldMode : std::uint8_t { Elastic = 0, Shear = 1, Tension = 2 };
 
 // How a point that fails in tension is returned.
 enum class TensionRule : std::uint8_t {
-  Flac,   // s3 = sigma_t, s1 and s2 follow elastically (FLAC's correction)
-  Paper,  // eq (28): the stress is released to sigma_t on the diagonal, shear stresses zero
+  Flac,   // s3 = sigma_t, s1 and s2 follow elastically (FLAC's correction, associated flow)
+  Paper,  // eq (28): every principal stress above sigma_t is released to sigma_t, the others kept
+};
+
+// Which points that exceed both the shear and the tension surface fail in tension.
+enum class TensionSelection : std::uint8_t {
+  Flac,   // FLAC's h-function (the bisector of the shear-tension corner)
+  Paper,  // the paper's "particles that exceed the tension strength": s3 > sigma_t
 };
 
 // Per-point plastic history (output fields).
@@ -41,6 +53,7 @@ struct MohrCoulomb {
   double psi = 0.0;       // dilatancy angle (rad)
   double tension = 0.0;   // sigma_t (Pa), at most c / tan(phi), eq (29)
   TensionRule tension_rule = TensionRule::Flac;
+  TensionSelection tension_selection = TensionSelection::Flac;
 
   // Strength of one point; c and phi may carry the point's imperfection factors.
   struct Strength {
@@ -112,30 +125,55 @@ struct MohrCoulomb {
     if constexpr (D == 3)
       if (shear_yield(p, s) >= 0.0 && s.sigma_t - p[2] >= 0.0) return YieldMode::Elastic;
     const double a1 = elastic.K + 4.0 * elastic.G / 3.0, a2 = elastic.K - 2.0 * elastic.G / 3.0;
-    // FLAC's h-function; (sigma_P, sigma_t) is the corner of the shear and tension surfaces.
-    const double a_P = std::sqrt(1.0 + s.N_phi * s.N_phi) + s.N_phi;
-    const double sigma_P = s.sigma_t * s.N_phi - 2.0 * s.c * s.sqrt_N_phi;
-    const bool shear = p[2] - s.sigma_t + a_P * (p[0] - sigma_P) <= 0.0;
-    if (!shear && tension_rule == TensionRule::Paper) {
-      // Eq (28): released to sigma_t on the diagonal; the whole release is plastic.
-      const Eigen::Vector3d dep = compliance((p.array() - s.sigma_t).matrix());
-      state.plastic_shear += dep.maxCoeff() - dep.minCoeff();
-      state.plastic_volume += dep.sum();
-      sigma = Voigt<D>::Zero();
-      for (int i = 0; i < 3; ++i) sigma[i] = s.sigma_t;
-      return state.mode = YieldMode::Tension;
+    bool shear;
+    if (tension_selection == TensionSelection::Paper) {
+      shear = !(p[2] > s.sigma_t);
+    } else {  // FLAC's h-function; (sigma_P, sigma_t) is the corner of the shear and tension surfaces
+      const double a_P = std::sqrt(1.0 + s.N_phi * s.N_phi) + s.N_phi;
+      const double sigma_P = s.sigma_t * s.N_phi - 2.0 * s.c * s.sqrt_N_phi;
+      shear = p[2] - s.sigma_t + a_P * (p[0] - sigma_P) <= 0.0;
     }
     const MohrCoulombReturn ret(s.N_phi, s.N_psi, 2.0 * s.c * s.sqrt_N_phi, s.sigma_t, a1, a2);
     PrincipalReturn r;
-    if (!ret.solve(p, shear, r)) {
-      r.stress.setConstant(s.sigma_t);  // the tension vertex is always admissible
-      r.plastic_strain = compliance((p.array() - s.sigma_t).matrix());
-      r.tension_active = true;
+    if (!shear && tension_rule == TensionRule::Paper) {
+      r = release(p, s, ret);
+    } else if (!ret.solve(p, shear, r)) {
+      r = vertex(p, s);
     }
     state.plastic_shear += r.plastic_strain.maxCoeff() - r.plastic_strain.minCoeff();
     state.plastic_volume += r.plastic_strain.sum();
     sigma = frame.rebuild(r.stress);
     return state.mode = (r.shear_active && (shear || !r.tension_active)) ? YieldMode::Shear : YieldMode::Tension;
+  }
+
+  // Eq (28) read as a release: the principal stresses above sigma_t drop to it, along their own
+  // directions, and the compressive ones are kept, so a point stretched one way and squeezed
+  // another still resists the squeeze. (Resetting all three to sigma_t, the literal reading,
+  // erases that resistance at every release and lets the soil compact without limit.) If the
+  // released stress is still beyond the shear surface, it is returned from there along the shear
+  // flow rule, to the corner with the tension plane if need be.
+  PrincipalReturn release(const Eigen::Vector3d& p, const Strength& s, const MohrCoulombReturn& ret) const {
+    PrincipalReturn r;
+    r.stress = p.cwiseMin(s.sigma_t);  // keeps the ascending order
+    r.plastic_strain = compliance(p - r.stress);
+    r.tension_active = true;
+    if (shear_yield(r.stress, s) < 0.0) {
+      PrincipalReturn sh;
+      if (!ret.solve(r.stress, true, sh)) return vertex(p, s);
+      r.stress = sh.stress;
+      r.plastic_strain += sh.plastic_strain;
+      r.shear_active = sh.shear_active;
+    }
+    return r;
+  }
+
+  // The tension vertex, admissible for any trial: the return of last resort (not seen in practice).
+  PrincipalReturn vertex(const Eigen::Vector3d& p, const Strength& s) const {
+    PrincipalReturn r;
+    r.stress.setConstant(s.sigma_t);
+    r.plastic_strain = compliance((p.array() - s.sigma_t).matrix());
+    r.tension_active = true;
+    return r;
   }
 
   // Principal strain of a principal stress difference: the inverse of Hooke's law.

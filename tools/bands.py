@@ -50,7 +50,7 @@ import json
 import math
 import os
 import sys
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
@@ -79,6 +79,16 @@ class Band:
     core_mean: float    # mean gamma within half a width of the centre line
     prominence: float   # (core_mean - higher flank mean) / (core_mean - background)
     coverage: float     # share of the band's length along which its core is high
+    line_angle: float = 0.0   # angle of one straight line fitted to the whole band (the chord)
+    straight_length: float = 0.0  # total length of the arms' straight parts, m
+    straightness: float = 0.0  # straight_length / traced length of the ridge (1 = straight)
+    bend: float = 0.0         # largest change of the ridge's direction along an arm, degrees
+    rms: float = 0.0          # rms distance of the ridge points from their straight parts, m
+    traced: float = 0.0       # share of the slices along the band's high-strain stretch (ends
+    #                           as fitted by one line), crossings left out, where a ridge was found
+    clear: bool = False       # passes the drawing gate (see is_clear)
+    arms: list = field(default_factory=list)   # per arm: dict of Arm fields
+    ridge: list = field(default_factory=list)  # traced ridge points [x, y], m, along the band
 
 
 def _robust(values):
@@ -329,9 +339,206 @@ def _fit_line(f, angle, px, py, excluded, w_hi, opts):
         prominence=prominence, coverage=coverage, t=t)
 
 
+@dataclass
+class Arm:
+    """One arm of a band: a stretch of its traced ridge, between the band's ends and crossings."""
+    angle: float          # degrees in (-90, 90], of the arm's straight part
+    x0: float             # ends of the straight part, m
+    y0: float
+    x1: float
+    y1: float
+    length: float         # length of the straight part, m
+    traced_length: float  # length of the whole traced arm, m
+    bend: float           # direction of the ridge at its far end minus at its near end, degrees
+    #                       (ends: the first and last quarter of the arm, each fitted by a line)
+    rms: float            # rms distance of the straight part's ridge points from its line, m
+
+
+def _ridge_profile(tt, gg, tc, half_window, spacing, sigma):
+    """Across-band profile of one slice, smoothed by a Gaussian of sd sigma, on a fine grid.
+
+    Returns (grid, profile, has_data)."""
+    tg = np.arange(tc - half_window, tc + half_window + 1e-12, 0.5 * spacing)
+    k = np.exp(-0.5 * ((tg[:, None] - tt[None, :]) / sigma) ** 2)
+    dens = k.sum(axis=1)
+    prof = (k * gg[None, :]).sum(axis=1) / np.maximum(dens, 1e-300)
+    have = dens > 0.3 * np.median(dens[dens > 0]) if (dens > 0).any() else dens > 0
+    return tg, prof, have
+
+
+def _trace_ridge(f, fit, other):
+    """Follows a band's ridge slice by slice along its fitted line.
+
+    At stations every ds along the line, the particles of a slice 2 ds thick (others' cores
+    `other` left out) give the across-band profile of gamma; the profile is smoothed by a Gaussian
+    of sd max(0.6 spacing, width / 8) and the ridge position is the centroid of its top fifth
+    (above background + 0.8 (peak - background)): the crest. A station is
+    dropped where the ridge is lost (peak under 0.3 of the band's rise), cut by the body's edge
+    (the profile does not fall to half on both sides inside the body) or crossed by another band
+    (more than 10 % of the particles within one width are in another band's core). The window
+    follows the ridge: each of the 3 passes centres it on the previous pass's ridge,
+    extrapolated linearly past its ends.
+
+    Returns (s, t, crossed): arrays over the stations, t = nan where no ridge was found, crossed =
+    True where another band crosses; s, t in the frame of the fitted line."""
+    angle, px, py, w = fit["angle"], fit["cx"], fit["cy"], fit["width"]
+    bg = fit["background"]
+    rise = fit["core_mean"] - bg
+    s, t = f.frame(angle, px, py)
+    ds = max(1.5 * f.spacing, 0.25 * w)
+    half_window = max(1.5 * w, 4 * f.spacing)
+    sigma = max(0.6 * f.spacing, w / 8)
+    stations = np.arange(s.min() + 0.5 * ds, s.max(), ds)
+    order = np.argsort(s)
+    s_sorted = s[order]
+    centre = np.zeros(len(stations))
+    ridge = np.full(len(stations), np.nan)
+    crossed = np.zeros(len(stations), dtype=bool)
+    for _ in range(3):
+        ridge = np.full(len(stations), np.nan)
+        crossed[:] = False
+        for k, sk in enumerate(stations):
+            lo, hi = np.searchsorted(s_sorted, [sk - ds, sk + ds])
+            idx = order[lo:hi]
+            idx = idx[np.abs(t[idx] - centre[k]) < half_window]
+            if len(idx) < 5:
+                continue
+            core = np.abs(t[idx] - centre[k]) < w
+            if core.any() and other[idx[core]].mean() > 0.1:
+                crossed[k] = True
+                continue
+            idx = idx[~other[idx]]
+            tg, prof, have = _ridge_profile(t[idx], f.g[idx], centre[k], half_window, f.spacing, sigma)
+            cand = have & (np.abs(tg - centre[k]) < 0.75 * half_window)
+            if not cand.any():
+                continue
+            k0 = int(np.argmax(np.where(cand, prof, -np.inf)))
+            if prof[k0] - bg < 0.3 * rise:
+                continue
+            def extent(level):
+                a = k0
+                while a > 0 and have[a - 1] and prof[a - 1] >= level:
+                    a -= 1
+                b = k0
+                while b < len(tg) - 1 and have[b + 1] and prof[b + 1] >= level:
+                    b += 1
+                return a, b
+
+            # The profile must fall under half its height on both sides within the body, with
+            # data a quarter width beyond (else the band is cut by the edge and biased).
+            a, b = extent(bg + 0.5 * (prof[k0] - bg))
+            margin = max(1, int(round(0.25 * w / (tg[1] - tg[0]))))
+            if a - margin < 0 or b + margin >= len(tg) or not have[a - margin:b + margin + 1].all():
+                continue
+            # The crest: centroid of the profile's top fifth (the half-height region's centroid
+            # would follow a skewed flank, as next to an X's crossing).
+            level = bg + 0.8 * (prof[k0] - bg)
+            a, b = extent(level)
+            u = prof[a:b + 1] - level
+            if u.sum() <= 0:
+                u = np.ones(b - a + 1)
+            ridge[k] = float((u * tg[a:b + 1]).sum() / u.sum())
+        ok = np.isfinite(ridge)
+        # Outliers: a ridge point far (0.3 width) from the median of its neighbours.
+        for k in np.flatnonzero(ok):
+            nb = ok & (np.abs(np.arange(len(stations)) - k) <= 2)
+            if nb.sum() >= 3 and abs(ridge[k] - np.median(ridge[nb])) > 0.3 * w:
+                ridge[k] = np.nan
+        ok = np.isfinite(ridge)
+        if ok.sum() < 3:
+            break
+        # Next pass: window on this ridge, extrapolated linearly past its ends.
+        ks = np.flatnonzero(ok)
+        centre = np.interp(stations, stations[ks], ridge[ks])
+        for end, k_end, outside in ((ks[:3], ks[0], stations < stations[ks[0]]),
+                                    (ks[-3:], ks[-1], stations > stations[ks[-1]])):
+            slope = float(np.clip(np.polyfit(stations[end], ridge[end], 1)[0], -1.0, 1.0))
+            centre[outside] = ridge[k_end] + slope * (stations[outside] - stations[k_end])
+    return stations, ridge, crossed
+
+
+def _line_fit(x, y):
+    """Total least squares line through points: (angle in degrees, mean x, mean y, residuals)."""
+    mx, my = x.mean(), y.mean()
+    evals, evecs = np.linalg.eigh(np.cov(np.vstack([x - mx, y - my]), bias=True))
+    d = evecs[:, 1]
+    resid = -(x - mx) * d[1] + (y - my) * d[0]
+    return _wrap_angle(math.degrees(math.atan2(d[1], d[0]))), mx, my, resid
+
+
+def _straight_part(x, y, tol, min_points=4):
+    """Longest run of consecutive ridge points lying within tol of their own fitted line (ties:
+    the run nearest the middle). Returns (i, j) inclusive, or None."""
+    n = len(x)
+    best, best_key = None, None
+    for i in range(n - min_points + 1):
+        for j in range(n - 1, i + min_points - 2, -1):
+            if best_key is not None and j - i < best_key[0]:
+                break
+            _, _, _, resid = _line_fit(x[i:j + 1], y[i:j + 1])
+            if np.abs(resid).max() <= tol:
+                key = (j - i, -abs(i + j - (n - 1)))
+                if best_key is None or key > best_key:
+                    best, best_key = (i, j), key
+                break
+    return best
+
+
+def _arms(f, fit, stations, ridge, crossed):
+    """Splits a traced ridge into arms and fits the straight part of each. Returns (arms, points):
+    a list of Arm and the ridge points as an (n, 2) array."""
+    a = math.radians(fit["angle"])
+    w = fit["width"]
+    ok = np.isfinite(ridge)
+    xs = fit["cx"] + stations * math.cos(a) - np.where(ok, ridge, 0) * math.sin(a)
+    ys = fit["cy"] + stations * math.sin(a) + np.where(ok, ridge, 0) * math.cos(a)
+    points = np.column_stack([xs[ok], ys[ok]])
+    # Arms: runs of ridge points broken by a crossing band or by more than 2 missing stations.
+    runs, cur, missing = [], [], 0
+    for k in range(len(stations)):
+        if ok[k]:
+            cur.append(k)
+            missing = 0
+        else:
+            missing += 1
+            if crossed[k] or missing > 2:
+                if cur:
+                    runs.append(cur)
+                cur = []
+    if cur:
+        runs.append(cur)
+    runs = [r for r in runs if len(r) >= 4]
+    # Scatter of the ridge positions (second differences of consecutive points), for the
+    # tolerance of "straight": 4 sd of the scatter, but at least 3 % of the band's width and a
+    # quarter of the particle spacing. (Looser, a tenth of the width, lets a straight run
+    # reach well into a bend and tilts it by a degree or more.)
+    d2 = [ridge[r[i + 1]] - 2 * ridge[r[i]] + ridge[r[i - 1]] for r in runs for i in range(1, len(r) - 1)
+          if r[i + 1] - r[i - 1] == 2]
+    scatter = ROBUST_SD * float(np.median(np.abs(d2))) / math.sqrt(6) if len(d2) >= 3 else 0.0
+    tol = max(0.03 * w, 4 * scatter, 0.25 * f.spacing)
+    arms = []
+    for r in runs:
+        x, y = xs[r], ys[r]
+        traced = float(np.hypot(np.diff(x), np.diff(y)).sum())
+        q = max(3, len(r) // 4)
+        bend = abs(_wrap_angle(_line_fit(x[-q:], y[-q:])[0] - _line_fit(x[:q], y[:q])[0]))
+        part = _straight_part(x, y, tol)
+        if part is None:
+            continue
+        i, j = part
+        ang, mx, my, resid = _line_fit(x[i:j + 1], y[i:j + 1])
+        c, s_ = math.cos(math.radians(ang)), math.sin(math.radians(ang))
+        along = (x[i:j + 1] - mx) * c + (y[i:j + 1] - my) * s_
+        arms.append(Arm(angle=ang, x0=mx + along.min() * c, y0=my + along.min() * s_,
+                        x1=mx + along.max() * c, y1=my + along.max() * s_,
+                        length=float(np.ptp(along)), traced_length=traced, bend=bend,
+                        rms=float(np.sqrt(np.mean(resid ** 2)))))
+    return arms, points
+
+
 def find_bands(x, y, gamma, max_bands=4, min_contrast=2.0, min_prominence=0.3,
                min_length=0.4, min_coverage=0.7, max_width=0.4, min_r2=0.8, min_relative=0.25,
-               angle_step=0.5, candidates=4):
+               angle_step=0.5, candidates=4, clear_contrast=6.0):
     """Shear bands in the field gamma(x, y), strongest first. See the module docstring.
 
     max_bands      -- stop after this many bands
@@ -410,9 +617,36 @@ def find_bands(x, y, gamma, max_bands=4, min_contrast=2.0, min_prominence=0.3,
         if refit is not None:
             refits.append(refit)
     strongest = max((g["core_mean"] - g["background"] for g in refits), default=0.0)
-    bands = [_to_band(g) for g in refits if passes(g, strongest)]
+    refits = [g for g in refits if passes(g, strongest)]
+    # Each band's ridge traced slice by slice, its arms (split at crossings) and their
+    # straight parts: the reported angle is theirs, not the whole band's chord.
+    bands = []
+    for k, fit in enumerate(refits):
+        others = np.zeros(f.n, dtype=bool)
+        for j, g in enumerate(refits):
+            if j != k:
+                others |= np.abs(g["t"]) <= 0.5 * g["width"]
+        stations, ridge, crossed = _trace_ridge(f, fit, others)
+        a = math.radians(fit["angle"])
+        ends = [(fit[xk] - fit["cx"]) * math.cos(a) + (fit[yk] - fit["cy"]) * math.sin(a)
+                for xk, yk in (("x0", "y0"), ("x1", "y1"))]
+        along = (stations >= min(ends)) & (stations <= max(ends)) & ~crossed
+        fit["traced"] = float(np.isfinite(ridge[along]).mean()) if along.any() else 0.0
+        arms, points = _arms(f, fit, stations, ridge, crossed)
+        bands.append(_to_band(fit, arms, points, f, clear_contrast))
     bands.sort(key=lambda b: -b.explained)
     return bands
+
+
+def is_clear(band, size, min_contrast=6.0, max_width=0.35, min_traced=0.6):
+    """The drawing gate: True when a band is a well-defined ridge worth drawing as a line.
+
+    contrast >= min_contrast (an incipient band at 2 % axial strain has 4-5, a formed one 15 and
+    more), width <= max_width * size (size: the body's smaller side), and its ridge traced along
+    at least min_traced of its length (a diffuse X, whose crossing is a broad blob, has short
+    arms)."""
+    return (band.contrast >= min_contrast and band.width <= max_width * size
+            and band.traced >= min_traced and len(band.arms) > 0)
 
 
 def _same_band(a, b):
@@ -424,15 +658,41 @@ def _same_band(a, b):
     return dist < max(a["width"], b["width"])
 
 
-def _to_band(fit):
-    angle = float(fit["angle"])
-    return Band(angle=angle, inclination=abs(angle), sense=_sense(angle),
-                cx=fit["cx"], cy=fit["cy"], offset=fit["offset"],
-                x0=fit["x0"], y0=fit["y0"], x1=fit["x1"], y1=fit["y1"],
-                length=fit["length"], width=fit["width"], explained=fit["explained"],
-                r2=fit["r2"], contrast=fit["contrast"], background=fit["background"],
-                core_mean=fit["core_mean"], prominence=fit["prominence"],
-                coverage=fit["coverage"])
+def _to_band(fit, arms, points, f, clear_contrast):
+    """A Band from a line fit and its traced arms (straight parts)."""
+    line_angle = float(fit["angle"])
+    total = sum(a.length for a in arms)
+    if total > 0:
+        # Length-weighted mean direction of the straight parts (doubled angles: a direction
+        # of a line is defined modulo 180 degrees).
+        c = sum(a.length * math.cos(math.radians(2 * a.angle)) for a in arms)
+        s = sum(a.length * math.sin(math.radians(2 * a.angle)) for a in arms)
+        angle = _wrap_angle(0.5 * math.degrees(math.atan2(s, c)))
+        longest = max(arms, key=lambda a: a.length)
+        cx, cy = 0.5 * (longest.x0 + longest.x1), 0.5 * (longest.y0 + longest.y1)
+        traced = sum(a.traced_length for a in arms)
+        rms = math.sqrt(sum(a.length * a.rms ** 2 for a in arms) / total)
+    else:  # no ridge could be traced: the chord is all there is
+        angle, cx, cy, traced, rms = line_angle, fit["cx"], fit["cy"], 0.0, 0.0
+    a = math.radians(angle)
+    off = -(cx - f.cx) * math.sin(a) + (cy - f.cy) * math.cos(a)
+    if len(points) >= 2:
+        (x0, y0), (x1, y1) = points[0], points[-1]
+    else:
+        x0, y0, x1, y1 = fit["x0"], fit["y0"], fit["x1"], fit["y1"]
+    band = Band(angle=angle, inclination=abs(angle), sense=_sense(angle),
+                cx=float(cx), cy=float(cy), offset=float(off),
+                x0=float(x0), y0=float(y0), x1=float(x1), y1=float(y1),
+                length=float(math.hypot(x1 - x0, y1 - y0)), width=fit["width"],
+                explained=fit["explained"], r2=fit["r2"], contrast=fit["contrast"],
+                background=fit["background"], core_mean=fit["core_mean"],
+                prominence=fit["prominence"], coverage=fit["coverage"], line_angle=line_angle,
+                straight_length=float(total), straightness=float(total / traced) if traced > 0 else 0.0,
+                bend=max((a_.bend for a_ in arms), default=0.0), rms=float(rms),
+                traced=float(fit.get("traced", 0.0)),
+                arms=[asdict(a_) for a_ in arms], ridge=[[float(p), float(q)] for p, q in points])
+    band.clear = is_clear(band, f.size, min_contrast=clear_contrast)
+    return band
 
 
 def bands_of_frame(path, body=0, field="max_shear_strain", reference=False, **kwargs):

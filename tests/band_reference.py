@@ -151,8 +151,8 @@ def match_arms(bands, ref_arms):
                 if d <= max(0.5 * a["length"], 2 * b.width) and (dist is None or d < dist):
                     best, dist = r, d
             ref = float(np.median(angles)) if len(angles) >= 4 else None
-            out.append(dict(band=i, arm=j, angle=a["angle"], reference=ref,
-                            reference_arm=best["angle"] if best else None,
+            out.append(dict(band=i, arm=j, angle=a["angle"], reference=ref, kinked=a["kinked"],
+                            clear=b.clear, reference_arm=best["angle"] if best else None,
                             difference=None if ref is None else a["angle"] - ref, x=mx, y=my,
                             length=a["length"]))
     return out
@@ -177,19 +177,21 @@ def compare_frame(path, body=0, reference=False, field="max_shear_strain"):
     bands, x, y, g = bands_of_frame(path, body=body, field=field, reference=reference)
     pairs = match_arms(bands, reference_arms(x, y, g))
     for i, b in enumerate(bands):
-        mine = [p for p in pairs if p["band"] == i and p["reference"] is not None]
+        # As bands.py does: kinked arms do not count for the band's angle.
+        mine = [p for p in pairs if p["band"] == i and p["reference"] is not None and not p["kinked"]]
         ref = None
         if mine:
             wsum = sum(p["length"] for p in mine)
             ref = sum(p["length"] * p["reference"] for p in mine) / wsum
         pairs.append(dict(band=i, arm=None, angle=b.angle, reference=ref, reference_arm=None,
+                          kinked=False, clear=b.clear,
                           difference=None if ref is None else b.angle - ref, x=b.cx, y=b.cy,
                           length=b.straight_length))
     return bands, pairs
 
 
 def describe_pairs(pairs):
-    lines = ["band  arm   middle x,y (mm)   bands.py  reference  difference   whole reference arm"]
+    lines = ["band  arm   middle x,y (mm)   bands.py  reference  difference   whole reference arm  note"]
     for p in sorted(pairs, key=lambda p: (p["band"], -1 if p["arm"] is None else p["arm"])):
         arm = "all" if p["arm"] is None else str(p["arm"] + 1)
 
@@ -198,7 +200,8 @@ def describe_pairs(pairs):
 
         lines.append(f"{p['band'] + 1:<5d} {arm:<5s} ({1e3 * p['x']:5.1f}, {1e3 * p['y']:5.1f})  "
                      f"{p['angle']:+8.2f}  {f(p['reference'], '+8.2f'):>9s}  "
-                     f"{f(p['difference'], '+6.2f'):>10s}   {f(p['reference_arm'], '+8.2f'):>9s}")
+                     f"{f(p['difference'], '+6.2f'):>10s}   {f(p['reference_arm'], '+8.2f'):>9s}           "
+                     + ("kinked " if p["kinked"] else "") + ("" if p["clear"] else "not clear"))
     return "\n".join(lines)
 
 

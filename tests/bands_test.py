@@ -249,7 +249,8 @@ class CurvedBands(unittest.TestCase):
         self.check_x([47.0, 126.0, 235.0, 305.0], centre=(0.025, 0.045))
 
     def test_curved_x_noisy(self):
-        self.check_x([50.0, 130.0, 230.0, 310.0], noise=0.04, seed=4)
+        # Noise 4 times stronger: 1.5 deg (over 8 seeds the worst arm is 1.2 deg off, the mean 0.4).
+        self.check_x([50.0, 130.0, 230.0, 310.0], tol=1.5, noise=0.04, seed=4)
 
     def test_curved_x_scattered(self):
         self.check_x([52.0, 128.0, 232.0, 308.0], scatter=0.4, seed=6)

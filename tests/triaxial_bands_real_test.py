@@ -67,6 +67,8 @@ class RealFrame(unittest.TestCase):
             self.assertGreaterEqual(b.inclination, 40.0)
             self.assertLessEqual(b.inclination, 60.0)
         for p in pairs:
+            if p["kinked"]:
+                continue  # not used for the band's angle (none in this frame so far)
             self.assertIsNotNone(p["reference"], p)
             limit = 2.0 if p["arm"] is None else 2.5
             self.assertLess(abs(p["difference"]), limit, p)

@@ -352,6 +352,8 @@ class Arm:
     bend: float           # direction of the ridge at its far end minus at its near end, degrees
     #                       (ends: the first and last quarter of the arm, each fitted by a line)
     rms: float            # rms distance of the straight part's ridge points from its line, m
+    kinked: bool = False  # bend > MAX_ARM_BEND: the trace has likely left the band (seen on a
+    #                       diffuse X at initial positions); not used for the band's angle, not drawn
 
 
 def _ridge_profile(tt, gg, tc, half_window, spacing, sigma):
@@ -466,17 +468,32 @@ def _line_fit(x, y):
     return _wrap_angle(math.degrees(math.atan2(d[1], d[0]))), mx, my, resid
 
 
-def _straight_part(x, y, tol, min_points=4):
-    """Longest run of consecutive ridge points lying within tol of their own fitted line (ties:
-    the run nearest the middle). Returns (i, j) inclusive, or None."""
+# A run of ridge points is straight when its direction turns by less than about this, degrees.
+STRAIGHT_TURN = 4.0
+# An arm whose direction turns by more than this, degrees, end to end, is `kinked`.
+MAX_ARM_BEND = 25.0
+
+
+def _straight_part(x, y, tol, turn=None, min_points=4):
+    """Longest run of consecutive ridge points (3-point running mean) lying within a tolerance
+    of their own fitted line (ties: the run nearest the middle). The tolerance is the larger of tol and the sagitta of a
+    circular arc as long as the run whose direction turns by `turn` degrees (L turn / 8, turn in
+    radians): a run is straight when its direction changes by less than about `turn`. Returns
+    (i, j) inclusive, or None."""
     n = len(x)
     best, best_key = None, None
+    turn = STRAIGHT_TURN if turn is None else turn
+    per_length = math.radians(turn) / 8
+    if n >= 5:  # a 3-point running mean takes out slice-to-slice jitter, not gradual bends
+        x = np.concatenate([x[:1], (x[:-2] + x[1:-1] + x[2:]) / 3, x[-1:]])
+        y = np.concatenate([y[:1], (y[:-2] + y[1:-1] + y[2:]) / 3, y[-1:]])
     for i in range(n - min_points + 1):
         for j in range(n - 1, i + min_points - 2, -1):
             if best_key is not None and j - i < best_key[0]:
                 break
             _, _, _, resid = _line_fit(x[i:j + 1], y[i:j + 1])
-            if np.abs(resid).max() <= tol:
+            length = math.hypot(x[j] - x[i], y[j] - y[i])
+            if np.abs(resid).max() <= max(tol, per_length * length):
                 key = (j - i, -abs(i + j - (n - 1)))
                 if best_key is None or key > best_key:
                     best, best_key = (i, j), key
@@ -532,7 +549,7 @@ def _arms(f, fit, stations, ridge, crossed):
         arms.append(Arm(angle=ang, x0=mx + along.min() * c, y0=my + along.min() * s_,
                         x1=mx + along.max() * c, y1=my + along.max() * s_,
                         length=float(np.ptp(along)), traced_length=traced, bend=bend,
-                        rms=float(np.sqrt(np.mean(resid ** 2)))))
+                        rms=float(np.sqrt(np.mean(resid ** 2))), kinked=bend > MAX_ARM_BEND))
     return arms, points
 
 
@@ -646,7 +663,7 @@ def is_clear(band, size, min_contrast=6.0, max_width=0.35, min_traced=0.6):
     at least min_traced of its length (a diffuse X, whose crossing is a broad blob, has short
     arms)."""
     return (band.contrast >= min_contrast and band.width <= max_width * size
-            and band.traced >= min_traced and len(band.arms) > 0)
+            and band.traced >= min_traced and any(not a["kinked"] for a in band.arms))
 
 
 def _same_band(a, b):
@@ -661,17 +678,18 @@ def _same_band(a, b):
 def _to_band(fit, arms, points, f, clear_contrast):
     """A Band from a line fit and its traced arms (straight parts)."""
     line_angle = float(fit["angle"])
-    total = sum(a.length for a in arms)
+    used = [a for a in arms if not a.kinked]
+    total = sum(a.length for a in used)
     if total > 0:
         # Length-weighted mean direction of the straight parts (doubled angles: a direction
         # of a line is defined modulo 180 degrees).
-        c = sum(a.length * math.cos(math.radians(2 * a.angle)) for a in arms)
-        s = sum(a.length * math.sin(math.radians(2 * a.angle)) for a in arms)
+        c = sum(a.length * math.cos(math.radians(2 * a.angle)) for a in used)
+        s = sum(a.length * math.sin(math.radians(2 * a.angle)) for a in used)
         angle = _wrap_angle(0.5 * math.degrees(math.atan2(s, c)))
-        longest = max(arms, key=lambda a: a.length)
+        longest = max(used, key=lambda a: a.length)
         cx, cy = 0.5 * (longest.x0 + longest.x1), 0.5 * (longest.y0 + longest.y1)
-        traced = sum(a.traced_length for a in arms)
-        rms = math.sqrt(sum(a.length * a.rms ** 2 for a in arms) / total)
+        traced = sum(a.traced_length for a in used)
+        rms = math.sqrt(sum(a.length * a.rms ** 2 for a in used) / total)
     else:  # no ridge could be traced: the chord is all there is
         angle, cx, cy, traced, rms = line_angle, fit["cx"], fit["cy"], 0.0, 0.0
     a = math.radians(angle)

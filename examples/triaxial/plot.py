@@ -5,12 +5,14 @@ usage: /usr/bin/python3 examples/triaxial/plot.py RESULTS_ROOT [CASE ...] [--no-
 RESULTS_ROOT holds one folder per case (test1_fixed, test1_free, ..., test3_free), each with a
 tsuchi run's recorders.csv and particles.pvd; cases that are missing are skipped. Writes
   RESULTS_ROOT/stress_strain.png   q against axial strain for every case, with the Mohr-Coulomb
-                                   peak of each test as a horizontal line
+                                   peak of each test as a dotted horizontal line (in the legend)
   RESULTS_ROOT/CASE/shear_strain.png
-                                   maximum shear strain of the deformed specimen and cap at 2, 5,
-                                   10, 15 % axial strain (and 50 % when the run got there), on a
-                                   common colour scale (top: the 99.5th percentile at 15 %, or
-                                   --vmax); detected shear bands drawn dashed
+                                   maximum shear strain of the deformed specimen at 2, 5, 10, 15 %
+                                   axial strain (and 50 % when the run got there), each panel on
+                                   its own colour scale (0 to its 99.5th percentile, or 0 to
+                                   --vmax for all) with its own colour bar; the cap in grey; the
+                                   straight parts of the shear bands that pass the detector's
+                                   gate (tools/bands.py, `clear`) drawn as lines
 """
 import argparse
 import math
@@ -24,7 +26,8 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from bands import find_bands, plot_bands  # noqa: E402
+import matplotlib.patheffects as patheffects  # noqa: E402
+from bands import find_bands  # noqa: E402
 from vtu import read_pvd, read_vtu  # noqa: E402
 
 # The paper's soil (Kiriyama 2015, table 2) and the three confining pressures, kPa.
@@ -104,12 +107,30 @@ def specimen_bands(frame):
 
 
 def describe_bands(bands):
-    return ", ".join(f"{b.angle:+.1f}" for b in bands) if bands else "none"
+    """Angles of the clear bands, then the others' in brackets (found, but not drawn)."""
+    clear = [f"{b.angle:+.1f}" for b in bands if b.clear]
+    faint = [f"{b.angle:+.1f}" for b in bands if not b.clear]
+    text = ", ".join(clear) if clear else "none clear"
+    return text + (f" ({', '.join(faint)} faint)" if faint else "")
+
+
+def draw_band_lines(ax, bands):
+    """Draws the straight part of every arm of every clear band; returns the number drawn."""
+    drawn = 0
+    outline = [patheffects.Stroke(linewidth=2.4, foreground="k"), patheffects.Normal()]
+    for b in bands:
+        if not b.clear:
+            continue
+        for a in b.arms:
+            ax.plot([a["x0"], a["x1"]], [a["y0"], a["y1"]], color="w", lw=1.2,
+                    path_effects=outline, solid_capstyle="butt")
+            drawn += 1
+    return drawn
 
 
 def plot_stress_strain(root, cases, out):
     fig, ax = plt.subplots(figsize=(8, 5.5))
-    tests_drawn = set()
+    tests_drawn, caps_drawn = set(), set()
     for case in cases:
         rec = read_recorders(os.path.join(root, case))
         if rec is None or "q_kPa" not in rec:
@@ -119,18 +140,21 @@ def plot_stress_strain(root, cases, out):
                 ls="-" if cap_of(case) == "fixed" else "--", lw=1.2,
                 label=f"{test} ({CONFINING_KPA.get(test, 0):g} kPa), cap {cap_of(case)}")
         tests_drawn.add(test)
-    xmax = ax.get_xlim()[1]
+        caps_drawn.add(cap_of(case))
     for test in sorted(tests_drawn):
         if test not in CONFINING_KPA:
             continue
         q = mc_peak(CONFINING_KPA[test])
-        ax.axhline(q, color=COLOURS[test], ls=":", lw=1.0)
-        ax.text(xmax, q, f" MC peak {q:.1f} kPa", color=COLOURS[test], va="bottom", ha="right", fontsize=8)
+        # Labelled in the legend, not by a text at the line's end (which the frame cut).
+        ax.axhline(q, color=COLOURS[test], ls=":", lw=1.0, label=f"{test}: Mohr-Coulomb peak {q:.1f} kPa")
     ax.set_xlabel("axial strain (%)")
     ax.set_ylabel("deviator stress q (kPa)")
     ax.set_xlim(left=0)
     ax.set_ylim(bottom=0)
-    ax.set_title("plane-strain triaxial compression (solid: cap fixed, dashed: cap free)")
+    title = "plane-strain triaxial compression"
+    if caps_drawn == {"fixed", "free"}:
+        title += " (solid: cap fixed, dashed: cap free)"
+    ax.set_title(title)
     ax.grid(alpha=0.3)
     if tests_drawn:
         ax.legend(fontsize=8, loc="lower right")
@@ -140,7 +164,11 @@ def plot_stress_strain(root, cases, out):
 
 
 def plot_snapshots(case_dir, title, out, draw_bands=True, vmax=None):
-    """Max-shear-strain snapshots of one case; returns [(target strain, frame strain, bands)]."""
+    """Max-shear-strain snapshots of one case; returns [(target strain, frame strain, bands)].
+
+    Each panel has its own colour scale, 0 to the 99.5th percentile of the specimen's strain in
+    that frame (or 0 to vmax in every panel when given): a scale shared with the 15 % frame
+    left the 2 % panel uniformly dark. The cap (every body but the specimen, body 0) is grey."""
     frames = frames_with_strain(case_dir)
     chosen = []
     for target in SNAPSHOT_STRAINS:
@@ -150,13 +178,6 @@ def plot_snapshots(case_dir, title, out, draw_bands=True, vmax=None):
     if not chosen:
         return []
     data = [read_vtu(f[2]) for _, f in chosen]
-    if vmax is None:
-        # Common scale set by the snapshot at 15 % (or the last one before it), its 99.5th
-        # percentile: at 50 % the band's strain is several times larger and would leave the
-        # earlier panels blank; there the band saturates instead.
-        ref = [d for (target, _), d in zip(chosen, data) if target <= 0.15][-1:] or data[-1:]
-        gamma = ref[0]["max_shear_strain"][ref[0]["body"] == 0]
-        vmax = float(np.percentile(gamma, 99.5)) or 1.0
     xs = np.concatenate([d["points"][:, 0] for d in data])
     ys = np.concatenate([d["points"][:, 1] for d in data])
     pad = 0.005
@@ -166,35 +187,50 @@ def plot_snapshots(case_dir, title, out, draw_bands=True, vmax=None):
     npanel = len(chosen)
     aspect = (ylim[1] - ylim[0]) / (xlim[1] - xlim[0])
     panel_w = 2.4
-    fig, axes = plt.subplots(1, npanel, figsize=(panel_w * npanel + 1.0, 0.85 * panel_w * aspect + 1.0),
+    fig, axes = plt.subplots(1, npanel, figsize=(panel_w * npanel + 0.5, 0.85 * panel_w * aspect + 1.6),
                              squeeze=False, constrained_layout=True)
     axes = axes[0]
     results, scatters = [], []
+    lines_drawn = 0
     for ax, (target, (strain, time, path)), d in zip(axes, chosen, data):
         ax.set_xlim(*xlim)
         ax.set_ylim(*ylim)
         ax.set_aspect("equal")
-        # Most strained particles drawn last, so that overlapping markers do not hide a band.
-        order = np.argsort(d["max_shear_strain"], kind="stable")
-        sc = ax.scatter(d["points"][order, 0], d["points"][order, 1], c=d["max_shear_strain"][order],
-                        s=1.0, marker="s", linewidths=0, cmap="jet", vmin=0.0, vmax=vmax)
+        spec = d["body"] == 0
+        gamma = d["max_shear_strain"]
+        top = vmax if vmax is not None else float(np.percentile(gamma[spec], 99.5)) or 1.0
         # Particle spacing from the specimen's particle count and initial area (positions minus
         # displacements), for markers about one spacing across.
         p0 = d["points"] - d["displacement"]
-        spec = d["body"] == 0
         area0 = np.ptp(p0[spec, 0]) * np.ptp(p0[spec, 1])
-        scatters.append((ax, sc, math.sqrt(area0 / max(spec.sum(), 1)) if area0 > 0 else 1e-3))
+        spacing = math.sqrt(area0 / max(spec.sum(), 1)) if area0 > 0 else 1e-3
+        cap = ~spec
+        if cap.any():
+            sc_cap = ax.scatter(d["points"][cap, 0], d["points"][cap, 1], c="0.6", s=1.0, marker="s",
+                                linewidths=0)
+            scatters.append((ax, sc_cap, spacing))
+        # Most strained particles drawn last, so that overlapping markers do not hide a band.
+        idx = np.flatnonzero(spec)
+        idx = idx[np.argsort(gamma[idx], kind="stable")]
+        sc = ax.scatter(d["points"][idx, 0], d["points"][idx, 1], c=gamma[idx],
+                        s=1.0, marker="s", linewidths=0, cmap="jet", vmin=0.0, vmax=top)
+        scatters.append((ax, sc, spacing))
+        bar = fig.colorbar(sc, ax=ax, orientation="horizontal", shrink=0.9, aspect=25, pad=0.02,
+                           extend="max" if gamma[spec].max() > top else "neither")
+        bar.ax.tick_params(labelsize=7)
+        ax.set_xlabel("x (m)", fontsize=8)
         bands = specimen_bands(d)
         if draw_bands:
-            plot_bands(ax, bands, color="w", lw=0.8)
+            lines_drawn += draw_band_lines(ax, bands)
         ax.set_title(f"{100 * strain:.0f} %\nbands: {describe_bands(bands)}", fontsize=8)
-        ax.set_xlabel("x (m)", fontsize=8)
         ax.tick_params(labelsize=7)
         results.append((target, strain, bands))
     axes[0].set_ylabel("y (m)", fontsize=8)
-    fig.suptitle(title, fontsize=10)
-    fig.colorbar(scatters[-1][1], ax=list(axes), label="maximum shear strain", shrink=0.8,
-                 extend="max")
+    key = "maximum shear strain, each panel on its own scale (bar below it); cap in grey"
+    if lines_drawn:
+        # The key names only what is drawn.
+        key += ";\nwhite lines: straight part of each arm of the clear bands (tools/bands.py)"
+    fig.suptitle(f"{title}\n{key}", fontsize=9)
     # Marker sizes are in points: convert once the layout (and so each axis' scale) is final.
     fig.canvas.draw()
     for ax, sc, spacing in scatters:
@@ -218,7 +254,9 @@ def main(argv=None):
     p.add_argument("root", help="folder holding test1_fixed/, test1_free/, ...")
     p.add_argument("cases", nargs="*", help="cases to plot (default: every one present)")
     p.add_argument("--no-bands", action="store_true", help="do not draw the detected shear bands")
-    p.add_argument("--vmax", type=float, help="top of the shear-strain colour scale")
+    p.add_argument("--vmax", type=float,
+                   help="top of the shear-strain colour scale, the same in every panel "
+                        "(default: each panel its own 99.5th percentile)")
     a = p.parse_args(argv)
     cases = present_cases(a.root, a.cases)
     if not cases:

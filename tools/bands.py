@@ -1,11 +1,13 @@
-"""Finds shear bands (straight ridges of high shear strain) in a particle field.
+"""Finds shear bands (ridges of high shear strain, straight or curved) in a particle field.
 
 Library:
 
     from bands import find_bands
     bands = find_bands(x, y, gamma)          # x, y, gamma: 1-D arrays, one entry per particle
     for b in bands:
-        print(b.angle, b.sense, b.width, b.explained)
+        print(b.angle, b.sense, b.width, b.clear)
+        for arm in b.arms:                   # dicts: angle, x0, y0, x1, y1 of the straight part
+            print(arm["angle"], arm["bend"])
 
 Command line (reads one tsuchi frame, keeps the particles of one body):
 
@@ -30,10 +32,16 @@ Method (see tools/README-bands.md for the reasoning):
     wholly inside the specimen (a cut end would tilt the fit). Repeated until it settles.
  4. A candidate is accepted as a band when it stands out: its core mean is `min_contrast`
     robust standard deviations above the background, it is a ridge (its flanks are lower than
-    its core), long, narrow and straight enough, and not much fainter than the strongest band
+    its core), long, narrow and line-like enough, and not much fainter than the strongest band
     (see find_bands for the limits). Its particles (within one width) are then set aside, the
     threshold of step 1 is recomputed on the rest, and the next band is searched, up to
     `max_bands`. A last pass refits every band with the others' cores left out.
+ 5. The line only finds a band; its angle is that of the band's chord, which on a curved X
+    (arms flatter at the crossing, steeper at the sides) is several degrees off. So each band's
+    ridge is traced slice by slice (_trace_ridge: the crest of the across-band profile at
+    stations along the line, following the ridge), split into arms where another band crosses,
+    and in each arm the longest straight run (direction turning by less than STRAIGHT_TURN) is
+    fitted (_arms). The band's `angle` is the length-weighted mean of its arms' straight parts.
 
 Fit quality, reported per band:
   explained  = (sum of the high-strain weights w of the particles within one width of the band's
@@ -43,6 +51,7 @@ Fit quality, reported per band:
   r2         = 1 - lambda_min / lambda_max of the weighted covariance of the band's particles:
                how line-like the band is (1 = a perfect line).
   contrast   = (mean gamma in the core - background median) / background robust sd.
+  straightness, bend, rms, traced: see Band; clear: the drawing gate (is_clear).
 Everything is deterministic (no random sampling).
 """
 import argparse
@@ -732,24 +741,40 @@ def bands_of_frame(path, body=0, field="max_shear_strain", reference=False, **kw
 
 
 def describe(bands):
-    """Human-readable table of bands."""
+    """Human-readable table of bands, then one line per arm."""
     if not bands:
         return "no shear band found"
-    lines = ["band  angle(deg)  sense          centre x,y (m)      width(mm)  length(mm)  "
-             "explained  r2      contrast"]
+    lines = ["band  angle(deg)  sense          chord(deg)  width(mm)  length(mm)  straight  "
+             "bend(deg)  traced  explained  contrast  clear"]
     for i, b in enumerate(bands, 1):
-        lines.append(f"{i:<5d} {b.angle:+8.2f}    {b.sense:<13s}  ({b.cx:.4f}, {b.cy:.4f})  "
-                     f"{1e3 * b.width:8.2f}  {1e3 * b.length:10.1f}  {b.explained:9.3f}  "
-                     f"{b.r2:.4f}  {b.contrast:8.1f}")
+        lines.append(f"{i:<5d} {b.angle:+8.2f}    {b.sense:<13s}  {b.line_angle:+8.2f}  "
+                     f"{1e3 * b.width:9.2f}  {1e3 * b.length:10.1f}  {b.straightness:8.2f}  "
+                     f"{b.bend:9.1f}  {b.traced:6.2f}  {b.explained:9.3f}  {b.contrast:8.1f}  "
+                     f"{'yes' if b.clear else 'no'}")
+    for i, b in enumerate(bands, 1):
+        for j, a in enumerate(b.arms, 1):
+            lines.append(f"  band {i} arm {j}: {a['angle']:+7.2f} deg, straight from "
+                         f"({1e3 * a['x0']:.1f}, {1e3 * a['y0']:.1f}) to ({1e3 * a['x1']:.1f}, "
+                         f"{1e3 * a['y1']:.1f}) mm, {1e3 * a['length']:.1f} of "
+                         f"{1e3 * a['traced_length']:.1f} mm traced, bend {a['bend']:.1f} deg"
+                         + (", kinked (not used)" if a["kinked"] else ""))
     return "\n".join(lines)
 
 
-def plot_bands(ax, bands, **style):
-    """Draws the bands' centre lines on a matplotlib axis."""
-    kw = dict(color="k", lw=1.0, ls="--")
+def plot_bands(ax, bands, only_clear=True, **style):
+    """Draws the straight part of each arm (not kinked) of the bands on a matplotlib axis; with
+    only_clear, only of the bands that pass the drawing gate. Returns the number of lines."""
+    kw = dict(color="k", lw=1.0)
     kw.update(style)
+    drawn = 0
     for b in bands:
-        ax.plot([b.x0, b.x1], [b.y0, b.y1], **kw)
+        if only_clear and not b.clear:
+            continue
+        for a in b.arms:
+            if not a["kinked"]:
+                ax.plot([a["x0"], a["x1"]], [a["y0"], a["y1"]], **kw)
+                drawn += 1
+    return drawn
 
 
 def main(argv=None):
@@ -781,9 +806,15 @@ def main(argv=None):
 
         fig, ax = plt.subplots(figsize=(4, 6))
         sc = ax.scatter(x, y, c=gamma, s=4, cmap="jet", linewidths=0)
-        plot_bands(ax, bands)
+        for b in bands:  # the traced ridge, as dots
+            if b.ridge:
+                r = np.array(b.ridge)
+                ax.plot(r[:, 0], r[:, 1], "o", color="w", mec="k", mew=0.4, ms=2.5)
+        plot_bands(ax, bands, only_clear=False, color="k", lw=1.6)
         for i, b in enumerate(bands, 1):
-            ax.annotate(f"{i}: {b.angle:+.1f}", (b.cx, b.cy), fontsize=8)
+            ax.annotate(f"{i}: {b.angle:+.1f}{'' if b.clear else ' (not clear)'}", (b.cx, b.cy),
+                        fontsize=8)
+        ax.set_title("dots: traced ridge; lines: straight parts", fontsize=8)
         ax.set_aspect("equal")
         fig.colorbar(sc, ax=ax, label=a.field)
         fig.tight_layout()

@@ -27,7 +27,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import matplotlib.patheffects as patheffects  # noqa: E402
-from bands import find_bands  # noqa: E402
+from bands import find_bands, plot_bands  # noqa: E402
 from vtu import read_pvd, read_vtu  # noqa: E402
 
 # The paper's soil (Kiriyama 2015, table 2) and the three confining pressures, kPa.
@@ -115,17 +115,11 @@ def describe_bands(bands):
 
 
 def draw_band_lines(ax, bands):
-    """Draws the straight part of every arm of every clear band; returns the number drawn."""
-    drawn = 0
+    """Draws the straight part of every arm of every clear band (bands.py's gate: contrast, width,
+    traced share; kinked arms left out); returns the number of lines drawn."""
     outline = [patheffects.Stroke(linewidth=2.4, foreground="k"), patheffects.Normal()]
-    for b in bands:
-        if not b.clear:
-            continue
-        for a in b.arms:
-            ax.plot([a["x0"], a["x1"]], [a["y0"], a["y1"]], color="w", lw=1.2,
-                    path_effects=outline, solid_capstyle="butt")
-            drawn += 1
-    return drawn
+    return plot_bands(ax, bands, only_clear=True, color="w", lw=1.2, path_effects=outline,
+                      solid_capstyle="butt")
 
 
 def plot_stress_strain(root, cases, out):
@@ -187,7 +181,7 @@ def plot_snapshots(case_dir, title, out, draw_bands=True, vmax=None):
     npanel = len(chosen)
     aspect = (ylim[1] - ylim[0]) / (xlim[1] - xlim[0])
     panel_w = 2.4
-    fig, axes = plt.subplots(1, npanel, figsize=(panel_w * npanel + 0.5, 0.85 * panel_w * aspect + 1.6),
+    fig, axes = plt.subplots(1, npanel, figsize=(panel_w * npanel + 0.5, 0.85 * panel_w * aspect + 1.9),
                              squeeze=False, constrained_layout=True)
     axes = axes[0]
     results, scatters = [], []
@@ -257,7 +251,7 @@ def main(argv=None):
     p.add_argument("--vmax", type=float,
                    help="top of the shear-strain colour scale, the same in every panel "
                         "(default: each panel its own 99.5th percentile)")
-    a = p.parse_args(argv)
+    a = p.parse_intermixed_args(argv)  # options may come between the cases
     cases = present_cases(a.root, a.cases)
     if not cases:
         print(f"no cases under {a.root}", file=sys.stderr)

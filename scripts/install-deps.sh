@@ -13,6 +13,7 @@ packages=(
   clang libclang-rt-14-dev         # fuzzing (scripts/fuzz.sh): clang, its libFuzzer and sanitizer runtimes
   libomp-14-dev                    # clang's OpenMP runtime (gcc's ASan/UBSan come with build-essential)
   python3 python3-numpy python3-matplotlib  # plots of the examples
+  python3-scipy                    # the independent band estimate of the tests (tests/band_reference.py)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,6 +1,6 @@
 """The reduced triaxial run of ctest, end to end: tsuchi runs test 1 with the cap fixed on a
 2.5 mm grid (3200 + 320 particles) to 6 % axial strain, then the band detector must find the X of
-two bands of opposite sense, inclined 45-60 degrees from horizontal in the initial configuration,
+two bands of opposite sense, inclined 44-61.25 degrees from horizontal in the initial configuration,
 and the recorded peak q must be within 10 % of the Mohr-Coulomb value.
 
 usage: triaxial_bands_test.py PATH_TO_TSUCHI
@@ -61,9 +61,11 @@ class ReducedTriaxial(unittest.TestCase):
             print(f"band {b.angle:+.1f} deg ({b.sense}), explained {b.explained:.2f}")
         self.assertEqual(len(bands), 2)
         self.assertLess(bands[0].angle * bands[1].angle, 0, "opposite senses")
+        # Between the Roscoe (45 + psi/2 = 45) and Coulomb (45 + phi/2 = 60.25) angles, less and
+        # more the detector's 1 degree (its agreement with tests/band_reference.py on real frames).
         for b in bands:
-            self.assertGreaterEqual(b.inclination, 45.0)
-            self.assertLessEqual(b.inclination, 60.0)
+            self.assertGreaterEqual(b.inclination, 44.0)
+            self.assertLessEqual(b.inclination, 61.25)
 
 
 if __name__ == "__main__":

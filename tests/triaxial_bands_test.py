@@ -5,39 +5,26 @@ and the recorded peak q must be within 10 % of the Mohr-Coulomb value.
 
 usage: triaxial_bands_test.py PATH_TO_TSUCHI
 """
-import math
 import os
 import shutil
-import subprocess
 import sys
-import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.normpath(os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(REPO, "tools"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from triaxial_support import mohr_coulomb_peak, run_example, tsuchi_from_argv  # noqa: E402
 import numpy as np  # noqa: E402
 from bands import bands_of_frame  # noqa: E402
 from vtu import read_pvd  # noqa: E402
 
-TSUCHI = sys.argv.pop(1) if len(sys.argv) > 1 else os.path.join(REPO, "build", "app", "tsuchi")
-
-
-def mohr_coulomb_peak(p_kpa, c_kpa=8.5, phi_deg=30.5):
-    s = math.sin(math.radians(phi_deg))
-    n = (1 + s) / (1 - s)
-    return p_kpa * (n - 1) + 2 * c_kpa * math.sqrt(n)
+TSUCHI = tsuchi_from_argv()
 
 
 class ReducedTriaxial(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.out = tempfile.mkdtemp(prefix="tsuchi_triaxial_")
-        cmd = [TSUCHI, "run", os.path.join(REPO, "examples", "triaxial", "test1_fixed.toml"), "-q",
-               "--output", cls.out, "--set", "grid.cell_size=0.0025",
-               "--set", "recorders.1.max=[1.0, 0.00125]", "--set", "recorders.2.max=[1.0, 0.00125]",
-               "--set", "recorders.0.stop_above=0.06", "--set", "output.interval=0.3"]
-        cls.run_result = subprocess.run(cmd, capture_output=True, text=True)
+        cls.out, cls.run_result = run_example(TSUCHI, "test1_fixed", "tsuchi_triaxial_", [
+            "grid.cell_size=0.0025", "recorders.1.max=[1.0, 0.00125]", "recorders.2.max=[1.0, 0.00125]",
+            "recorders.0.stop_above=0.06", "output.interval=0.3"])
 
     @classmethod
     def tearDownClass(cls):

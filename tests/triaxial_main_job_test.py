@@ -12,37 +12,24 @@ separate in tension.
 
 usage: triaxial_main_job_test.py PATH_TO_TSUCHI   (about 35 s on one core)
 """
-import math
 import os
 import shutil
-import subprocess
 import sys
-import tempfile
 import unittest
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.normpath(os.path.join(HERE, ".."))
-sys.path.insert(0, os.path.join(REPO, "tools"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from triaxial_support import mohr_coulomb_peak, run_example, tsuchi_from_argv  # noqa: E402
 import numpy as np  # noqa: E402
 from bands import find_bands  # noqa: E402
 from vtu import read_pvd, read_vtu  # noqa: E402
 
-TSUCHI = sys.argv.pop(1) if len(sys.argv) > 1 else os.path.join(REPO, "build", "app", "tsuchi")
-
-
-def mohr_coulomb_peak(p_kpa, c_kpa=8.5, phi_deg=30.5):
-    s = math.sin(math.radians(phi_deg))
-    n = (1 + s) / (1 - s)
-    return p_kpa * (n - 1) + 2 * c_kpa * math.sqrt(n)
+TSUCHI = tsuchi_from_argv()
 
 
 class MainJob(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.out = tempfile.mkdtemp(prefix="tsuchi_main_job_")
-        cmd = [TSUCHI, "run", os.path.join(REPO, "examples", "triaxial", "test1_fixed.toml"), "-q",
-               "--output", cls.out]
-        cls.run_result = subprocess.run(cmd, capture_output=True, text=True)
+        cls.out, cls.run_result = run_example(TSUCHI, "test1_fixed", "tsuchi_main_job_")
         cls.rec = np.genfromtxt(os.path.join(cls.out, "recorders.csv"), delimiter=",", names=True)
         _, last = read_pvd(os.path.join(cls.out, "particles.pvd"))[-1]
         cls.frame = read_vtu(os.path.join(cls.out, last))

@@ -1,7 +1,7 @@
 """Convergence of the triaxial case (cap fixed) with grid, imperfection seed and loading rate.
 
 usage: /usr/bin/python3 examples/triaxial/convergence.py [--tests test1 test2] [--jobs N]
-           [--results results/triaxial/convergence] [--tsuchi build/app/tsuchi] [--no-run]
+           [--results results/triaxial] [--tsuchi build/app/tsuchi] [--no-run]
            [--quick]
 
 For test 1 and test 2 of the paper with the cap fixed (examples/triaxial/TEST_fixed.toml, the
@@ -15,9 +15,9 @@ inputs of the main job) it runs three families of variants around the main input
 and reports, per run: the peak deviator q and its strain against the Mohr-Coulomb peak, q at 5,
 10 and 15 %, the band pattern (X, single band or none) with the bands' angles (deformed and at the
 initial positions) and widths at 8 % and 15 %, and the wall time. The bottom-row recorders of the
-input are moved to each grid's bottom row (particles that start below half a cell). Writes
-RESULTS/convergence.md, RESULTS/convergence.json and RESULTS/convergence.png (q against strain of
-every family). --quick runs every variant to 3 % only (a smoke test of the script).
+input are moved to each grid's bottom row (particles that start below half a cell). The runs go
+to RESULTS/convergence/RUN/; the script writes RESULTS/convergence.md (beside study.py's report.md),
+RESULTS/convergence.json and RESULTS/convergence.png (q against strain of every family). --quick runs every variant to 3 % only (a smoke test of the script).
 Exit status: 0 if every run finished, 1 otherwise (the report is written anyway).
 """
 import argparse
@@ -90,7 +90,7 @@ def command(run, args, out):
 
 
 def run_one(run, args):
-    out = os.path.join(args.results, run["name"])
+    out = os.path.join(args.results, "convergence", run["name"])
     os.makedirs(out, exist_ok=True)
     for name in os.listdir(out):  # an earlier, longer run's frames must not be picked up
         if name.startswith("particles") or name.endswith(".csv"):
@@ -130,7 +130,7 @@ def bands_in(frame, reference):
 
 
 def analyse(run, args):
-    out = os.path.join(args.results, run["name"])
+    out = os.path.join(args.results, "convergence", run["name"])
     row = dict(run)
     path = os.path.join(out, "recorders.csv")
     if not os.path.exists(path):
@@ -245,7 +245,7 @@ def main(argv=None):
     ap.add_argument("--tests", nargs="+", default=["test1", "test2"], choices=sorted(CONFINING_KPA))
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 1, help="runs at a time")
     ap.add_argument("--threads", type=int, default=1, help="threads per run")
-    ap.add_argument("--results", default=os.path.join(REPO, "results", "triaxial", "convergence"))
+    ap.add_argument("--results", default=os.path.join(REPO, "results", "triaxial"))
     ap.add_argument("--tsuchi", default=os.path.join(REPO, "build", "app", "tsuchi"))
     ap.add_argument("--no-run", action="store_true", help="only analyse existing results")
     ap.add_argument("--quick", action="store_true", help="every run to 3 % only")
@@ -268,7 +268,7 @@ def main(argv=None):
     for r in sorted(runs, key=lambda r: (r["test"], -r["cell"], r["seed"] != 2015, r["seed"], -r["speed"])):
         rec = records.get(r["name"])
         if rec is None:
-            jpath = os.path.join(args.results, r["name"], "run.json")
+            jpath = os.path.join(args.results, "convergence", r["name"], "run.json")
             if os.path.exists(jpath):
                 with open(jpath) as f:
                     rec = json.load(f)

@@ -203,6 +203,9 @@ def write_report(args, cases, records):
                  b50[0], b50[1], i50,
                  fmt(rec.get("wall_s"), ".0f"), fmt(rec.get("particle_steps_per_s"), ".3g"), status]
         lines.append("| " + " | ".join(cells) + " |")
+    if os.path.exists(os.path.join(args.results, "convergence.md")):
+        lines += ["", "Convergence of the cap-fixed cases with grid, imperfection seed and loading rate: "
+                  "[convergence.md](convergence.md) (examples/triaxial/convergence.py)."]
     lines += ["", "## Stress-strain curves", "", "![q against axial strain](stress_strain.png)", "",
               "## Maximum shear strain", ""]
     for case in cases:

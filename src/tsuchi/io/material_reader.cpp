@@ -34,7 +34,13 @@ MohrCoulomb read_mohr_coulomb(Section& s, const LinearElastic& elastic) {
   m.tension = s.number("tension_strength", "a tension strength >= 0 in Pa", non_negative, 0.0);
   m.tension = std::min(m.tension, m.cohesion / std::tan(m.phi));
   m.tension_rule = static_cast<TensionRule>(s.choice("tension_rule", {"flac", "paper"}, 0));
-  m.tension_selection = static_cast<TensionSelection>(s.choice("tension_selection", {"flac", "paper"}, 0));
+  // Each rule goes with its own selection unless told otherwise.
+  const int rule = static_cast<int>(m.tension_rule);
+  m.tension_selection = static_cast<TensionSelection>(s.choice("tension_selection", {"flac", "paper"}, rule));
+  if (m.tension_rule == TensionRule::Paper && m.tension_selection == TensionSelection::Flac)
+    s.fail("tension_selection",
+           "tension_rule = \"paper\" needs tension_selection = \"paper\": with FLAC's h-function the release "
+           "and the shear return meet at different stresses where h = 0, so the result would jump");
   return m;
 }
 

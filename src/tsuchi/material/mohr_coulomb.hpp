@@ -30,10 +30,12 @@ enum class YieldMode : std::uint8_t { Elastic = 0, Shear = 1, Tension = 2 };
 // How a point that fails in tension is returned.
 enum class TensionRule : std::uint8_t {
   Flac,   // s3 = sigma_t, s1 and s2 follow elastically (FLAC's correction, associated flow)
-  Paper,  // eq (28): every principal stress above sigma_t is released to sigma_t, the others kept
+  Paper,  // eq (28) per direction: every principal stress above sigma_t released to it, others kept
 };
 
-// Which points that exceed both the shear and the tension surface fail in tension.
+// Which points that exceed both the shear and the tension surface fail in tension. The paper's
+// release goes with the paper's selection only: on FLAC's h = 0 the release and the shear return
+// meet at different stresses (the input reader refuses that pairing).
 enum class TensionSelection : std::uint8_t {
   Flac,   // FLAC's h-function (the bisector of the shear-tension corner)
   Paper,  // the paper's "particles that exceed the tension strength": s3 > sigma_t
@@ -146,12 +148,14 @@ struct MohrCoulomb {
     return state.mode = (r.shear_active && (shear || !r.tension_active)) ? YieldMode::Shear : YieldMode::Tension;
   }
 
-  // Eq (28) read as a release: the principal stresses above sigma_t drop to it, along their own
-  // directions, and the compressive ones are kept, so a point stretched one way and squeezed
-  // another still resists the squeeze. (Resetting all three to sigma_t, the literal reading,
-  // erases that resistance at every release and lets the soil compact without limit.) If the
-  // released stress is still beyond the shear surface, it is returned from there along the shear
-  // flow rule, to the corner with the tension plane if need be.
+  // The paper's release (eq 28) applied per principal direction: the principal stresses above
+  // sigma_t drop to it and the others are kept, so a point stretched one way and squeezed another
+  // still resists the squeeze. Eq (28) itself resets the whole tensor to sigma_t; on a point still
+  // compressed on average that erases the compression at every release and lets the soil compact
+  // without limit. If the released stress is beyond the shear surface, the shear return follows
+  // from there (an operator split, not one return mapping: the release's opening stays booked even
+  // when the shear step then takes s3 below sigma_t). The mode reported is the surface the stress
+  // ends on: tension while s3 = sigma_t, shear once the shear step has left the tension plane.
   PrincipalReturn release(const Eigen::Vector3d& p, const Strength& s, const MohrCoulombReturn& ret) const {
     PrincipalReturn r;
     r.stress = p.cwiseMin(s.sigma_t);  // keeps the ascending order
@@ -163,6 +167,7 @@ struct MohrCoulomb {
       r.stress = sh.stress;
       r.plastic_strain += sh.plastic_strain;
       r.shear_active = sh.shear_active;
+      r.tension_active = sh.tension_active;
     }
     return r;
   }

@@ -123,7 +123,7 @@ def draw_band_lines(ax, bands):
 
 
 def plot_stress_strain(root, cases, out):
-    fig, ax = plt.subplots(figsize=(8, 5.5))
+    fig, ax = plt.subplots(figsize=(10.5, 5.5))
     tests_drawn, caps_drawn = set(), set()
     for case in cases:
         rec = read_recorders(os.path.join(root, case))
@@ -151,7 +151,8 @@ def plot_stress_strain(root, cases, out):
     ax.set_title(title)
     ax.grid(alpha=0.3)
     if tests_drawn:
-        ax.legend(fontsize=8, loc="lower right")
+        # Beside the axes: inside, it hides the curves of one case or another at some strain.
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     fig.tight_layout()
     fig.savefig(out, dpi=120)
     plt.close(fig)

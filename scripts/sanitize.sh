@@ -10,6 +10,9 @@
 #   kill_and_restart        about 1.5 min; and its full-disk case expects frame 1 (step ~20) to be
 #                           written before the 0.12 s wall-time checkpoint, which under the
 #                           sanitizers comes first
+#   triaxial_main_job, triaxial_bands_reference, triaxial_convergence_script
+#                           full-size or reduced triaxial runs of 5 to 35 s in Release (minutes
+#                           sanitized); the same solver paths as Triaxial.Reduced*
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -17,4 +20,4 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTSUCHI_SANITIZE=ON
 cmake --build build-asan -j"$(nproc)"
 export ASAN_OPTIONS=detect_leaks=1:check_initialization_order=1:strict_init_order=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-ctest --test-dir build-asan --output-on-failure -j"$(nproc)" -E '^(triaxial_reduced_bands|kill_and_restart)$'
+ctest --test-dir build-asan --output-on-failure -j"$(nproc)" -E '^(triaxial_reduced_bands|kill_and_restart|triaxial_main_job|triaxial_bands_reference|triaxial_convergence_script)$'

@@ -313,6 +313,7 @@ void read_output(Section& s, Config& c) {
   auto& o = c.output;
   o.directory = s.string("directory", "a directory path", o.directory);
   if (o.directory.empty()) s.fail("directory", "expected a directory path, got an empty string");
+  if (const toml::node* n = s.get("directory")) o.directory_where = where(s.file(), n->source());
   o.interval = s.number("interval", "a non-negative time in s", non_negative, 0.0);
   o.global_interval = s.number("global_interval", "a non-negative time in s", non_negative, 0.0);
   o.write_frames = s.boolean("frames", true);
@@ -339,6 +340,7 @@ void read_checkpoint(Section& s, Config& c) {
   k.every_steps = s.integer("every_steps", "a non-negative whole number of steps", [](std::int64_t n) { return n >= 0; }, 0);
   k.every_minutes = s.number("every_minutes", "a non-negative wall time in minutes", non_negative, 0.0);
   k.file = s.string("file", "a file name", k.file);
+  if (const toml::node* n = s.get("file")) k.file_where = where(s.file(), n->source());
   if (k.file.empty() || k.file.back() == '/') s.fail("file", fmt::format("expected a file name, got \"{}\"", k.file));
   s.finish();
 }

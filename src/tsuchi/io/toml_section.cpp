@@ -1,6 +1,7 @@
 #include "tsuchi/io/toml_section.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -70,11 +71,24 @@ toml::table parse_toml(const std::string& text, const std::string& file, const s
 }
 
 std::string read_input_file(const std::string& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    throw InputError(fmt::format("{}: cannot read the input file: it is {}, not a regular file", path,
+                                 std::filesystem::is_directory(status) ? "a directory" : "a device, pipe or socket"));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot open the input file", path));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  in.seekg(0, std::ios::end);
+  const auto size = static_cast<std::uint64_t>(in.tellg());
+  if (size > max_input_bytes)
+    throw InputError(fmt::format("{}: the input file is {} bytes long; input files above {} MB are refused (an input "
+                                 "is a few kB of TOML)",
+                                 path, size, max_input_bytes >> 20));
+  in.seekg(0);
+  std::string text(static_cast<std::size_t>(size), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  if (!in) throw InputError(fmt::format("{}: cannot read the input file", path));
+  return text;
 }
 
 }  // namespace tsuchi::io

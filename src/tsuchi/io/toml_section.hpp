@@ -279,7 +279,9 @@ inline const auto any = [](double) { return true; };
 // parts index arrays of tables). Syntax errors become InputError with the file and position.
 toml::table parse_toml(const std::string& text, const std::string& file, const std::vector<std::string>& overrides);
 
-// The whole file, or InputError naming it.
+// The whole file, or InputError naming it; anything but a regular file of at most
+// max_input_bytes is refused before it is read.
+inline constexpr std::uint64_t max_input_bytes = std::uint64_t{16} << 20;
 std::string read_input_file(const std::string& path);
 
 }  // namespace tsuchi::io

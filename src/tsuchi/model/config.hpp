@@ -97,11 +97,13 @@ struct CheckpointConfig {
   std::int64_t every_steps = 0;    // 0: not by step count
   double every_minutes = 0.0;      // 0: not by wall time
   std::string file = "checkpoint.tsuchi";  // relative to the output directory unless absolute
+  std::string file_where;                  // "FILE:LINE:COL" of the key, for messages ("" when not given)
   bool enabled() const { return every_steps > 0 || every_minutes > 0.0; }
 };
 
 struct OutputConfig {
   std::string directory = "results";
+  std::string directory_where;     // "FILE:LINE:COL" of the key, for messages ("" when not given)
   double interval = 0.0;           // s between particle frames; 0 writes only the first and last
   double global_interval = 0.0;    // s between rows of the global CSV; 0: every step
   std::vector<std::string> fields;  // particle fields in the .vtu frames

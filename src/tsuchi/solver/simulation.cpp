@@ -2,6 +2,7 @@
 
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/interrupt.hpp"
+#include "tsuchi/io/atomic_file.hpp"
 #include "tsuchi/io/checkpoint.hpp"
 #include "tsuchi/io/output_writer.hpp"
 #include "tsuchi/solver/recorder.hpp"
@@ -51,9 +52,15 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   // Particle sets are chosen on the initial state, before a checkpoint replaces it.
   std::vector<Recorder<D>> recorders;
   for (const auto& rc : model.config.recorders) recorders.emplace_back(rc, model);
+  if (options.write_output) check_output_paths(model.config, dir, ck_path);
   RunProgress start;
   if (options.restart) {
     start = read_checkpoint<D>(*options.restart, model);
+    // Past the end there is nothing to run, and a last frame there would lie beyond time.end.
+    if (start.time > end * (1.0 + 1e-12))
+      throw InputError(fmt::format("{}: the checkpoint {} is at t = {:.9g} s, past time.end = {:.9g} s: nothing to "
+                                   "run; give a later time.end (--set time.end=...)",
+                                   model.config.source, *options.restart, start.time, end));
     solver.resume(start.time, start.steps);
   }
   // Check the first step before anything is written: a refused dt leaves the directory untouched.
@@ -63,10 +70,9 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
 
   std::optional<OutputWriter<D>> out;
   if (options.write_output) {
-    out.emplace(model, dir, recorders);
-    if (options.restart) {
-      out->restore(start.output);
-    } else {
+    out.emplace(model, dir, recorders, options.restart ? &start.output : nullptr);
+    prepare_checkpoint_directory(ck_path);  // a checkpoint hours later must not be the first to find it unwritable
+    if (!options.restart) {
       out->global_row(0.0, 0, 0.0);
       out->frame(0.0);
     }
@@ -89,6 +95,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   // continues exactly as the run would have.
   auto save = [&] {
     if (!out) return;
+    out->flush_global(true);  // the rows the checkpoint names are on disk before it
     RunProgress now{solver.time(), solver.steps(), dt, frame_index, row_index, last_frame, last_row, out->history()};
     write_checkpoint<D>(ck_path, model, now);
     last_checkpoint = clock::now();
@@ -158,7 +165,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
       }
       if (const int sig = pending_interrupt()) {
         save();
-        if (out) out->flush_global();
+        interrupt_saved();
         throw Interrupted(
             out ? fmt::format("signal {} at step {} (t = {:.6g} s); the state is saved in {}; continue with --restart {}",
                               sig, solver.steps(), now, ck_path, ck_path)

@@ -2,7 +2,8 @@
 """Kills at random moments (issue 6): a run killed with SIGKILL at any moment leaves only complete
 files (every .vtu parses with all its data, the .pvd lists only such frames, every CSV row is whole);
 restarted from its latest checkpoint after each kill, it ends bitwise identical to a run never
-interrupted. SIGTERM saves the state, exits with 128 + 15, and the restart also ends identical.
+interrupted. SIGTERM saves the state, exits with 128 + 15, and the restart also ends identical;
+so does SIGTERM sent twice 10 ms apart (issue 13; TSUCHI_TWICE_REPEATS times, default 4).
 
 usage: kill_test.py TSUCHI_BINARY
 """
@@ -195,6 +196,29 @@ def main():
         out, _ = p.communicate()
         check(p.returncode == 0, f"restart after SIGTERM failed: {out}")
         same_files(ref, d, "after SIGTERM")
+
+        # SIGTERM twice, 10 ms apart (as `timeout` and batch schedulers do), at random moments: the
+        # second signal must not cut the save short. Every time the exit code is 143, a complete
+        # checkpoint is left, and the restart ends byte-identical to the uninterrupted run.
+        d = os.path.join(tmp, "twice")
+        ck = os.path.join(d, "checkpoint.tsuchi")
+        for attempt in range(int(os.environ.get("TSUCHI_TWICE_REPEATS", "4"))):
+            shutil.rmtree(d, ignore_errors=True)
+            p = run(binary, inp, d)
+            time.sleep(rng.uniform(0.05, 0.8 * duration))
+            p.send_signal(signal.SIGTERM)
+            time.sleep(0.01)
+            p.send_signal(signal.SIGTERM)
+            out, _ = p.communicate()
+            if p.returncode == 0:
+                continue  # ended before the signals
+            check(p.returncode == 128 + signal.SIGTERM, f"SIGTERM twice: exit code {p.returncode}: {out}")
+            check("continue with --restart" in out, f"SIGTERM twice: the message does not say how to continue: {out}")
+            check_directory(d, f"after SIGTERM twice ({attempt})")
+            p = run(binary, inp, d, "--restart", ck)
+            out, _ = p.communicate()
+            check(p.returncode == 0, f"restart after SIGTERM twice failed: {out}")
+            same_files(ref, d, f"after SIGTERM twice ({attempt})")
 
         # A full disk, played by a file-size limit that the frames fit under and the checkpoint does not.
         d = os.path.join(tmp, "full")

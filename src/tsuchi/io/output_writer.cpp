@@ -26,11 +26,19 @@ bool is_frame_file_name(const std::string& name) {
 
 namespace {
 
-// The same file, whether or not it exists yet (symbolic links and "a/../b" resolved).
+// Absolute, symbolic links of the existing part resolved, "." and ".." and a trailing "/" gone.
+fs::path normal(const fs::path& p) {
+  std::error_code ec;
+  fs::path r = fs::weakly_canonical(fs::absolute(p, ec), ec).lexically_normal();
+  if (r.has_parent_path() && r.filename().empty()) r = r.parent_path();
+  return r;
+}
+
+// The same file, whether or not it exists yet.
 bool same_path(const fs::path& a, const fs::path& b) {
   std::error_code ec;
   if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
-  return fs::weakly_canonical(fs::absolute(a, ec), ec) == fs::weakly_canonical(fs::absolute(b, ec), ec);
+  return normal(a) == normal(b);
 }
 
 }  // namespace
@@ -47,8 +55,8 @@ void check_output_paths(const Config& c, const std::string& directory, const std
   if (fs::is_directory(ck, ec)) refuse(fmt::format("{} is a directory", checkpoint));
   if (fs::exists(input, ec) && same_path(ck, input))
     refuse(fmt::format("{} is the input file, which the checkpoint would overwrite", checkpoint));
-  if (same_path(ck.parent_path(), dir)) {
-    const std::string name = ck.filename().string();
+  if (same_path(normal(ck).parent_path(), dir)) {
+    const std::string name = normal(ck).filename().string();
     if (name == "particles.pvd" || name == "global.csv" || name == "recorders.csv" || is_frame_file_name(name) ||
         name == DirectoryLock::file_name)
       refuse(fmt::format("{} is one of the run's output files, which the checkpoint would overwrite", checkpoint));

@@ -234,6 +234,14 @@ stress = { xx = "hold", zz = "hold" }
 
 TEST(ElementInput, RefusesBadPaths) {
   ASSERT_NO_THROW(read(kGeneral));
+  // An empty array of segments was accepted as a path of no increment (issue 13).
+  try {
+    io::read_element_string(kGeneral, "element.toml", {"test.segments=[]"});
+    ADD_FAILURE() << "segments = [] accepted";
+  } catch (const InputError& e) {
+    expect_message(e.what(), {"element.toml: (command-line override): key 'test.segments'",
+                              "at least one [[test.segments]] table, got an empty array"});
+  }
   expect_message(input_error(replace(kGeneral, "yy = -0.1,", "yy = -0.1, xx = 0.0,")),
                  {"element.toml:", "key 'test.segments.0.stress.xx'", "controlled twice", "test.segments.0.strain"});
   expect_message(input_error(replace(kGeneral, ", xz = 0.0 }", " }")),

@@ -461,15 +461,13 @@ Config read_document(const toml::table& root, const std::string& file) {
   Section gs(*grid, "grid", file);
   read_grid(gs, c);
 
-  const auto mats = top.tables("materials");
-  if (mats.empty()) top.need("materials", "at least one [[materials]] table");
+  const auto mats = top.need_tables("materials", "at least one [[materials]] table");
   for (std::size_t i = 0; i < mats.size(); ++i) {
     Section s(*mats[i], fmt::format("materials.{}", i), file);
     c.materials.push_back(read_material(s, c.materials));
   }
 
-  const auto bodies = top.tables("bodies");
-  if (bodies.empty()) top.need("bodies", "at least one [[bodies]] table");
+  const auto bodies = top.need_tables("bodies", "at least one [[bodies]] table");
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     Section s(*bodies[i], fmt::format("bodies.{}", i), file);
     read_body(s, c, i);

@@ -210,6 +210,17 @@ class Section {
     return r;
   }
 
+  // [[key]] array of tables that must hold at least one entry: an absent key and an empty array
+  // (`bodies = []`, in the file or from --set) are both refused.
+  std::vector<const toml::table*> need_tables(std::string_view key, const std::string& expected) {
+    auto r = tables(key);
+    if (r.empty()) {
+      if (!has(key)) need(key, expected);
+      fail(key, fmt::format("expected {}, got an empty array", expected));
+    }
+    return r;
+  }
+
   void finish() const {
     for (auto&& [k, v] : t_) {
       if (!used_.count(std::string(k.str()))) {

@@ -17,7 +17,9 @@
 #include <omp.h>
 #include <fmt/format.h>
 
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <csignal>
 #include <cstdio>
 
@@ -95,6 +97,22 @@ int run(const Config& c, const Options& o) {
   return exit_code::ok;
 }
 
+// The most threads a run takes: the bound of --threads, also applied to OMP_NUM_THREADS (libgomp
+// crashes when asked for 100,000).
+constexpr int max_threads = 1024;
+
+void clamp_environment_threads() {
+  const char* env = std::getenv("OMP_NUM_THREADS");
+  if (!env) return;
+  // A list ("8,4") gives the threads per nesting level; only the first level is used here.
+  char* end = nullptr;
+  errno = 0;
+  const long n = std::strtol(env, &end, 10);
+  if (end == env || (n <= max_threads && errno != ERANGE)) return;
+  fmt::print(stderr, "warning: OMP_NUM_THREADS={} is more than {} threads; using {}\n", env, max_threads, max_threads);
+  omp_set_num_threads(max_threads);
+}
+
 int dispatch(bool run_it, const Options& o) {
   if (o.threads > 0) omp_set_num_threads(o.threads);
   const Config c = read_config_file(o.file, o.overrides);
@@ -115,7 +133,7 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("-q,--quiet", o.quiet, "No summary or progress");
   run_cmd->add_option("-r,--restart", o.restart, "Continue from a checkpoint written by a run of the same input");
   run_cmd->add_option("-j,--threads", o.threads, "Threads (default: OMP_NUM_THREADS, else every core); results do not depend on it")
-      ->check(CLI::Range(1, 1024));
+      ->check(CLI::Range(1, max_threads));
   auto* check_cmd = app.add_subcommand("check", "Validate an input file and print the model summary");
   check_cmd->add_option("file", o.file, "Input file (TOML)")->required();
   check_cmd->add_option("-s,--set", o.overrides, "Override an input key");
@@ -132,6 +150,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? exit_code::ok : exit_code::usage;
   }
+  // Line by line: piped into one log, the summary (stdout) comes before the progress (stderr).
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
+  clamp_environment_threads();
   // A full disk or a file-size limit should be an error message, not a silent kill.
   std::signal(SIGXFSZ, SIG_IGN);
   try {

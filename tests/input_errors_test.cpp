@@ -446,4 +446,35 @@ frames = false
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
 }
 
+// OMP_NUM_THREADS=100000 crashed libgomp (exit 139); it is held to 1024, the bound of --threads,
+// with a warning (issue 13).
+TEST(ProgramErrors, HugeThreadCountFromTheEnvironmentIsClamped) {
+  TempDir tmp("tsuchi_input_errors");
+  write_file(tmp.path / "good.toml", kValid);
+  const std::string cmd = "OMP_NUM_THREADS=100000 '" + std::string(TSUCHI_BINARY) + "' check " + quoted(tmp.path / "good.toml") + " 2>&1";
+  std::FILE* p = ::popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  char buf[4096];
+  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+  const int st = ::pclose(p);
+  ASSERT_TRUE(WIFEXITED(st)) << out;
+  EXPECT_EQ(WEXITSTATUS(st), tsuchi::exit_code::ok) << out;
+  expect_message(out, {"warning: OMP_NUM_THREADS=100000 is more than 1024 threads; using 1024", "threads    1024",
+                       "input is valid"});
+}
+
+// Piped into one log, the model summary (stdout) comes before the progress lines (stderr); it
+// came after them, at exit, when stdout was fully buffered (issue 13).
+TEST(ProgramErrors, SummaryComesBeforeProgressInALog) {
+  TempDir tmp("tsuchi_input_errors");
+  write_file(tmp.path / "good.toml", replace(kValid, "directory = \"out\"", "directory = \"" + (tmp.path / "out").string() + "\""));
+  const ProgramResult r = run_program("run " + quoted(tmp.path / "good.toml"));
+  ASSERT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  const auto summary = r.output.find("particles  "), progress = r.output.find("% step "), done = r.output.find("done: ");
+  ASSERT_NE(progress, std::string::npos) << r.output;
+  EXPECT_LT(summary, progress) << r.output;
+  EXPECT_LT(progress, done) << r.output;
+}
+
 }  // namespace

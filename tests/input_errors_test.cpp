@@ -477,4 +477,27 @@ TEST(ProgramErrors, SummaryComesBeforeProgressInALog) {
   EXPECT_LT(progress, done) << r.output;
 }
 
+// Anything but a regular file is refused before it is read: /dev/zero was read without limit until
+// the OOM killer came (2.2 GB, then 23 GB), a directory said "missing key 'model'"; an input file
+// above 16 MB is refused by its size (issue 13).
+TEST(ProgramErrors, InputMustBeARegularFileOfSensibleSize) {
+  TempDir tmp("tsuchi_input_errors");
+  ProgramResult r = run_program("check /dev/zero");
+  EXPECT_EQ(r.status, tsuchi::exit_code::input) << r.output;
+  expect_message(r.output, {"/dev/zero: cannot read the input file: it is a device, pipe or socket, not a regular file"});
+  r = run_program("check " + quoted(tmp.path));
+  EXPECT_EQ(r.status, tsuchi::exit_code::input) << r.output;
+  expect_message(r.output, {tmp.path.string() + ": cannot read the input file: it is a directory, not a regular file"});
+  write_file(tmp.path / "huge.toml", kValid + std::string(17u << 20, '#'));
+  r = run_program("check " + quoted(tmp.path / "huge.toml"));
+  EXPECT_EQ(r.status, tsuchi::exit_code::input) << r.output;
+  expect_message(r.output, {"huge.toml: the input file is 17826", "input files above 16 MB are refused"});
+  // A checkpoint that is a device is refused by its type, before any byte is read.
+  write_file(tmp.path / "good.toml", kValid);
+  r = run_program("run -q " + quoted(tmp.path / "good.toml") + " -o " + quoted(tmp.path / "out") + " --restart /dev/zero");
+  EXPECT_EQ(r.status, tsuchi::exit_code::input) << r.output;
+  expect_message(r.output, {"/dev/zero: not a usable checkpoint: it is not a regular file"});
+  EXPECT_FALSE(fs::exists(tmp.path / "out"));
+}
+
 }  // namespace

@@ -54,9 +54,12 @@ void print_summary(const Model<D>& m, const std::string& output_dir) {
              to_string(c.solver.shape), c.solver.pic_fraction, c.solver.damping);
   fmt::print("time step  {:.4g} s ({}; stable limit {:.4g} s)\n", dt,
              c.time.courant ? fmt::format("Courant {}", *c.time.courant) : std::string("fixed"), dt_crit);
-  fmt::print("steps      about {:.0f} to t = {} s\n", std::ceil(c.time.end / dt), c.time.end);
-  const double frames = c.output.interval > 0 ? std::ceil(c.time.end / c.output.interval) + 1 : 2;
-  fmt::print("output     {} ({:.0f} frames{})\n", output_dir, c.output.write_frames ? frames : 0,
+  const RunLength length = estimate_run_length(c, dt);
+  fmt::print("steps      about {:.0f} to t = {} s{}\n", length.steps, c.time.end,
+             c.time.max_steps > 0 && length.steps >= static_cast<double>(c.time.max_steps)
+                 ? fmt::format(" (stopped by time.max_steps = {})", c.time.max_steps)
+                 : std::string{});
+  fmt::print("output     {} ({:.0f} frames{})\n", output_dir, length.frames,
              c.output.global_interval > 0 ? fmt::format(", global.csv every {} s", c.output.global_interval)
                                           : ", global.csv every step");
   fmt::print("memory     about {:.1f} MB\n", static_cast<double>(m.bytes()) / 1e6);
@@ -66,6 +69,8 @@ void print_summary(const Model<D>& m, const std::string& output_dir) {
 template <int D>
 int check(const Config& c) {
   const Model<D> m = build_model<D>(c);
+  const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
+  check_run_length(c, next_time_step(c.time, dt_crit, 0, c.source));
   print_summary<D>(m, c.output.directory);
   fmt::print("input is valid\n");
   return exit_code::ok;

@@ -500,4 +500,21 @@ TEST(ProgramErrors, InputMustBeARegularFileOfSensibleSize) {
   EXPECT_FALSE(fs::exists(tmp.path / "out"));
 }
 
+// The step estimate of `check` counts the steps that land on frame times: with dt = 4e-4 s and a
+// frame every 1e-3 s (2.5 steps), each interval takes 3 steps, 150 in all to 0.05 s, which the
+// run takes exactly; `check` said 125 (end / dt) before (issue 13).
+TEST(ProgramErrors, StepEstimateCountsFrameTimes) {
+  TempDir tmp("tsuchi_input_errors");
+  std::string text = replace(kValid, "courant = 0.5", "dt = 4e-4");
+  text = replace(text, "end = 0.01", "end = 0.05");
+  text = replace(text, "directory = \"out\"", "interval = 1e-3\nframes = false\ndirectory = \"" + (tmp.path / "out").string() + "\"");
+  write_file(tmp.path / "m.toml", text);
+  ProgramResult r = run_program("check " + quoted(tmp.path / "m.toml"));
+  ASSERT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {"steps      about 150 to t = 0.05 s"});
+  r = run_program("run -q " + quoted(tmp.path / "m.toml"));
+  ASSERT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {"done: 150 steps to t = 0.05 s"});
+}
+
 }  // namespace

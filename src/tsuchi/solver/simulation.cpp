@@ -31,6 +31,52 @@ double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step,
   return *time.dt;
 }
 
+RunLength estimate_run_length(const Config& c, double dt, double from_time) {
+  const double end = c.time.end, interval = c.output.interval;
+  const double span = std::max(0.0, end - from_time);
+  // A stretch of length L takes ceil(L / dt) steps: the last one is shortened onto its end (or the
+  // last two split it), as the time loop does.
+  auto steps_over = [&](double L) { return L <= dt * (1.0 + 1e-6) ? (L > 0.0 ? 1.0 : 0.0) : std::ceil(L / dt - 1e-9); };
+  RunLength r;
+  if (interval > 0.0 && interval < end) {
+    const double first = std::floor(from_time / interval) + 1.0;  // the first frame time k * interval after now
+    const double last = std::ceil(end / interval * (1.0 - 1e-12)) - 1.0;  // the last one before end
+    const double full = std::max(0.0, last - first);
+    const double lead = std::min(first * interval, end) - from_time;
+    const double tail = end - std::max(last * interval, from_time);
+    r.steps = full > 0.0 || last >= first ? steps_over(lead) + full * steps_over(interval) + steps_over(tail)
+                                          : steps_over(span);
+    r.frames = (from_time > 0.0 ? 0.0 : 1.0) + std::max(0.0, last - first + 1.0) + 1.0;
+  } else {
+    r.steps = steps_over(span);
+    r.frames = from_time > 0.0 ? 1.0 : 2.0;
+  }
+  if (c.time.max_steps > 0 && r.steps > static_cast<double>(c.time.max_steps)) {
+    r.steps = static_cast<double>(c.time.max_steps);
+    r.frames = std::min(r.frames, r.steps + 1.0);
+  }
+  if (!c.output.write_frames) r.frames = 0.0;
+  return r;
+}
+
+void check_run_length(const Config& c, double dt, double from_time) {
+  const RunLength r = estimate_run_length(c, dt, from_time);
+  if (c.time.max_steps == 0 && r.steps > default_step_limit)
+    throw InputError(fmt::format(
+        "{}: the run would take about {:.3g} steps of {:.3g} s to time.end = {} s{}, more than the {:.0e} a run "
+        "takes without time.max_steps: check time.end, time.dt{}, the moduli and densities; or set time.max_steps "
+        "to the number of steps you mean to allow",
+        c.source, r.steps, dt, c.time.end,
+        c.output.interval > 0.0 && c.output.interval < c.time.end
+            ? fmt::format(" with a frame every output.interval = {} s", c.output.interval)
+            : std::string{},
+        default_step_limit, c.output.interval > 0.0 ? ", output.interval" : ""));
+  if (r.frames > frame_limit)
+    throw InputError(fmt::format("{}: the run would write about {:.3g} frames (output.interval = {} s to time.end = "
+                                 "{} s), more than {:.0e}; choose a larger output.interval",
+                                 c.source, r.frames, c.output.interval, c.time.end, frame_limit));
+}
+
 std::string checkpoint_path(const Config& config, const std::string& output_directory) {
   const std::string& f = config.checkpoint.file;
   return f.front() == '/' ? f : output_directory + "/" + f;
@@ -66,6 +112,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   // Check the first step before anything is written: a refused dt leaves the directory untouched.
   double dt = next_time_step(tc, critical_time_step<D>(model.particles, model.config.materials, model.grid.h),
                              0, model.config.source);
+  check_run_length(model.config, dt, start.time);
   if (options.restart && start.steps > 0) dt = start.dt;  // only for a final row; every later step recomputes it
 
   std::optional<OutputWriter<D>> out;

@@ -42,6 +42,22 @@ std::string checkpoint_path(const Config& config, const std::string& output_dire
 // throws InputError (at step 0) or RunError (later) if a fixed dt exceeds the stable limit.
 double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step, const std::string& source);
 
+// How long a run is: steps and frames from `from_time` to time.end with a first step `dt`,
+// counting the shortened steps that land on every frame time, and time.max_steps when set.
+struct RunLength {
+  double steps = 0.0;
+  double frames = 0.0;
+};
+RunLength estimate_run_length(const Config& config, double dt, double from_time = 0.0);
+
+// Without time.max_steps a run may take at most this many steps; and no run more frames than this.
+inline constexpr double default_step_limit = 1e8;
+inline constexpr double frame_limit = 1e5;
+
+// Refuses (InputError) a run that cannot finish: more steps than default_step_limit without an
+// explicit time.max_steps, or more frames than frame_limit.
+void check_run_length(const Config& config, double dt, double from_time = 0.0);
+
 template <int D>
 RunSummary run_simulation(Model<D>& model, const RunOptions& options,
                           const std::function<void(const ExplicitSolver<D>&)>& after_step = {});

@@ -17,11 +17,14 @@
 #include <omp.h>
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <csignal>
 #include <cstdio>
+#include <string_view>
 
 namespace {
 
@@ -76,11 +79,20 @@ int check(const Config& c) {
   return exit_code::ok;
 }
 
+// "tsuchi run FILE -o DIR --set ...": how to continue this run, less "--restart CHECKPOINT".
+std::string resume_command(const Options& o) {
+  std::string r = "tsuchi run " + shell_word(o.file);
+  if (!o.output.empty()) r += " -o " + shell_word(o.output);
+  for (const auto& s : o.overrides) r += " --set " + shell_word(s);
+  return r;
+}
+
 template <int D>
 int run(const Config& c, const Options& o) {
   Model<D> m = build_model<D>(c);
   if (!o.quiet) print_summary<D>(m, o.output.empty() ? c.output.directory : o.output);
   RunOptions ro;
+  ro.resume_command = resume_command(o);
   if (!o.output.empty()) ro.output_directory = o.output;
   if (!o.restart.empty()) {
     ro.restart = o.restart;
@@ -134,20 +146,23 @@ int main(int argc, char** argv) {
   auto* run_cmd = app.add_subcommand("run", "Run the model in an input file");
   run_cmd->add_option("file", o.file, "Input file (TOML)")->required();
   run_cmd->add_option("-o,--output", o.output, "Output directory (overrides output.directory)");
-  run_cmd->add_option("-s,--set", o.overrides, "Override an input key, e.g. --set time.end=0.5");
+  run_cmd->add_option("-s,--set", o.overrides, "Override an input key, e.g. --set time.end=0.5")
+      ->allow_extra_args(false);
   run_cmd->add_flag("-q,--quiet", o.quiet, "No summary or progress");
   run_cmd->add_option("-r,--restart", o.restart, "Continue from a checkpoint written by a run of the same input");
   run_cmd->add_option("-j,--threads", o.threads, "Threads (default: OMP_NUM_THREADS, else every core); results do not depend on it")
       ->check(CLI::Range(1, max_threads));
   auto* check_cmd = app.add_subcommand("check", "Validate an input file and print the model summary");
   check_cmd->add_option("file", o.file, "Input file (TOML)")->required();
-  check_cmd->add_option("-s,--set", o.overrides, "Override an input key");
+  check_cmd->add_option("-s,--set", o.overrides, "Override an input key")
+      ->allow_extra_args(false);
   tsuchi::app::ElementOptions eo;
   auto* element_cmd =
       app.add_subcommand("element", "Drive one material point along a stress/strain path (a lab test) to CSV");
   element_cmd->add_option("file", eo.file, "Element-test input file (TOML)")->required();
   element_cmd->add_option("-o,--output", eo.output, "CSV file to write (default: FILE's name with .csv, here)");
-  element_cmd->add_option("-s,--set", eo.overrides, "Override an input key, e.g. --set test.confining_pressure=1e5");
+  element_cmd->add_option("-s,--set", eo.overrides, "Override an input key, e.g. --set test.confining_pressure=1e5")
+      ->allow_extra_args(false);
   element_cmd->add_flag("-q,--quiet", eo.quiet, "No summary, only the final lines");
 
   try {

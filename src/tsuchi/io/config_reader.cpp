@@ -49,7 +49,7 @@ void read_model(Section& s, Config& c) {
   c.dimension = static_cast<int>(
       s.integer("dimension", "2 (plane strain) or 3", [](std::int64_t d) { return d == 2 || d == 3; }, 0));
   if (c.dimension == 0) s.need("dimension", "2 (plane strain) or 3");
-  c.title = s.string("title", "a string", std::string{});
+  c.title = s.one_line("title", "a title", std::string{});
   c.gravity = s.vector("gravity", c.dimension, "m/s^2", any, Triple{});
   s.finish();
 }
@@ -100,6 +100,7 @@ void read_initial_velocity(Section& s, int dim, BodyConfig& b) {
   const toml::node* n = s.get("velocity");
   if (!n) return;
   const std::string expected = "numbers (m/s) or formulas of x, y, z in quotes";
+  b.velocity_where = where(s.file(), n->source());
   auto a = n->as_array();
   if (!a || static_cast<int>(a->size()) != dim)
     s.fail("velocity", fmt::format("expected an array of {} {}, got {}", dim, expected,

@@ -267,7 +267,7 @@ ElementInput read_element_string(const std::string& text, const std::string& fil
   Section top(root, "", file);
   ElementInput in;
   in.source = file;
-  in.title = top.string("title", "a title", std::string{});
+  in.title = top.one_line("title", "a title", std::string{});
 
   std::vector<Material> materials;
   const auto mats = top.need_tables("materials", "at least one [[materials]] table");

@@ -13,18 +13,22 @@ namespace {
 void apply_override(toml::table& root, const std::string& assignment, const std::string& file) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw InputError(fmt::format("{}: override '{}': expected key=value", file, assignment));
+    throw InputError(fmt::format("{}: override '{}': expected key=value", file, printable(assignment)));
   std::string path = assignment.substr(0, eq);
   path.erase(path.find_last_not_of(" \t") + 1);
   // Only blanks before the '=' (found by fuzzing: parts.back() below read past an empty list).
-  if (path.empty()) throw InputError(fmt::format("{}: override '{}': expected key=value", file, assignment));
+  if (path.empty()) throw InputError(fmt::format("{}: override '{}': expected key=value", file, printable(assignment)));
   const std::string value = assignment.substr(eq + 1);
+  // toml++ would read a second line as another key of its own little document, which is dropped.
+  if (assignment.find_first_of("\n\r") != std::string::npos)
+    throw InputError(fmt::format("{}: override '{}': expected key=value on one line, got a line break in the value",
+                                 file, printable(assignment)));
   toml::table parsed;
   try {
     parsed = toml::parse(std::string_view(std::string("v = ") + value), std::string_view("override"));
   } catch (const toml::parse_error& e) {
     throw InputError(fmt::format("{}: override '{}': the value is not valid TOML ({})", file,
-                                 assignment, e.description()));
+                                 printable(assignment), e.description()));
   }
   std::vector<std::string> parts;
   std::stringstream ss(path);
@@ -41,11 +45,11 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
       if (*end == '\0' && k >= 0 && static_cast<std::size_t>(k) < a->size()) next = a->get(static_cast<std::size_t>(k));
     }
     if (!next || !(next->is_table() || next->is_array()))
-      throw InputError(fmt::format("{}: override '{}': '{}' does not name a table", file, assignment, parts[i]));
+      throw InputError(fmt::format("{}: override '{}': '{}' does not name a table", file, printable(assignment), parts[i]));
     here = next;
   }
   auto t = here->as_table();
-  if (!t) throw InputError(fmt::format("{}: override '{}': cannot set an array entry", file, assignment));
+  if (!t) throw InputError(fmt::format("{}: override '{}': cannot set an array entry", file, printable(assignment)));
   t->insert_or_assign(parts.back(), *parsed.get("v"));
 }
 

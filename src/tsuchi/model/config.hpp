@@ -53,6 +53,7 @@ struct BodyConfig {
   std::array<int, 3> particles_per_cell{2, 2, 2};
   Triple velocity{};
   std::array<std::string, 3> velocity_formula;  // when set, replaces velocity[d]: a formula of x, y, z
+  std::string velocity_where;                    // "FILE:LINE:COL" of 'velocity', for messages
   // Prescribed particle velocity (a loading platen): component d is held at
   // prescribed_velocity[d] + sum_j prescribed_gradient[d][j] x_j when prescribed[d] is set.
   std::array<bool, 3> prescribed{false, false, false};

@@ -226,8 +226,11 @@ void add_body(const Config& c, int body, Model<D>& m) {
       const auto& x = p.x_p[q];
       p.v_p[q][d] = f(x[0], x[1], D == 3 ? x[D - 1] : 0.0);
       if (!std::isfinite(p.v_p[q][d]))
-        throw InputError(fmt::format("{}: key 'bodies.{}.velocity': the formula \"{}\" is not finite at ({}, {})",
-                                     c.source, body, b.velocity_formula[d], x[0], x[1]));
+        throw InputError(fmt::format(
+            "{}: key 'bodies.{}.velocity': expected a finite velocity, got {} from entry {} \"{}\" at particle {} "
+            "({}{})",
+            b.velocity_where.empty() ? c.source : b.velocity_where, body, p.v_p[q][d], d + 1, b.velocity_formula[d], q,
+            fmt::format("{}, {}", x[0], x[1]), D == 3 ? fmt::format(", {}", x[D - 1]) : std::string{}));
     }
   }
   m.body_particles.push_back(total);

@@ -10,26 +10,53 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <string_view>
 #include <cmath>
 
 namespace tsuchi {
 
 double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step, const std::string& source) {
   if (std::isnan(dt_crit))
-    throw RunError(fmt::format("step {}: a particle's velocity, volume or mass is not finite", step + 1),
+    throw RunError("got a non-finite velocity, volume or mass; the run is unstable there: reduce time.courant or "
+                   "time.dt, add solver.damping, or check the material parameters",
                    Fault::NonFinite);
   if (time.courant) return *time.courant * dt_crit;
   if (*time.dt > dt_crit) {
+    // --set cannot remove time.dt from the file, so the advice that works from the command line
+    // is a smaller time.dt; time.courant needs an edit of the file.
     const std::string msg = fmt::format(
-        "time.dt = {:.6g} s is above the stable limit {:.6g} s (cell size / (P-wave speed + particle "
-        "speed)); set time.dt below it, or set time.courant instead",
-        *time.dt, dt_crit);
+        "time.dt = {:.6g} s is above the stable limit {:.6g} s (cell size / (P-wave speed + particle speed)); set "
+        "a smaller time.dt (--set time.dt={:.3g}), or replace time.dt by time.courant in {}",
+        *time.dt, dt_crit, 0.9 * dt_crit, source);
     if (step == 0) throw InputError(fmt::format("{}: {}", source, msg));
-    throw RunError(fmt::format("step {}: {}", step + 1, msg), Fault::UnstableStep);
+    throw RunError(msg, Fault::UnstableStep);
   }
   return *time.dt;
 }
+
+namespace {
+
+// The particle that sets the stable step (largest c_p + |v_p|), or the first with a non-finite
+// state: the one a fault of the time step is about.
+template <int D>
+std::size_t limiting_particle(const Model<D>& m) {
+  const auto& p = m.particles;
+  std::size_t best = 0;
+  double fastest = -1.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double rho = p.m_p[i] / p.V_p[i];
+    const double speed =
+        std::sqrt(m.config.materials[p.material_p[i]].elastic().constrained_modulus() / rho) + p.v_p[i].norm();
+    if (!std::isfinite(speed)) return i;
+    if (speed > fastest) fastest = speed, best = i;
+  }
+  return best;
+}
+
+}  // namespace
 
 RunLength estimate_run_length(const Config& c, double dt, double from_time) {
   const double end = c.time.end, interval = c.output.interval;
@@ -75,6 +102,16 @@ void check_run_length(const Config& c, double dt, double from_time) {
     throw InputError(fmt::format("{}: the run would write about {:.3g} frames (output.interval = {} s to time.end = "
                                  "{} s), more than {:.0e}; choose a larger output.interval",
                                  c.source, r.frames, c.output.interval, c.time.end, frame_limit));
+}
+
+std::string shell_word(const std::string& w) {
+  const bool plain = !w.empty() && std::all_of(w.begin(), w.end(), [](unsigned char ch) {
+    return std::isalnum(ch) || std::string_view("/._-+=,:@%").find(static_cast<char>(ch)) != std::string_view::npos;
+  });
+  if (plain) return w;
+  std::string r = "'";
+  for (const char ch : w) r += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return r + "'";
 }
 
 std::string checkpoint_path(const Config& config, const std::string& output_directory) {
@@ -158,12 +195,15 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
           dt = next_time_step(tc, critical_time_step<D>(model.particles, model.config.materials, model.grid.h),
                               solver.steps(), model.config.source);
         } catch (const RunError& e) {
+          const RunError located(fmt::format("step {} (t = {:.6g} s): {}: {}", solver.steps() + 1, solver.time(),
+                                             solver.describe_particle(limiting_particle(model)), e.what()),
+                                 e.fault);
           // The state is still that of a good step: worth saving for a restart with a smaller dt.
           if (e.fault == Fault::UnstableStep && out) {
             save();
             if (solver.time() > last_frame) out->frame(solver.time());
           }
-          throw;
+          throw located;
         }
       }
       // Land exactly on the next frame (or the end); split the approach in two equal steps rather
@@ -214,8 +254,8 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
         save();
         interrupt_saved();
         throw Interrupted(
-            out ? fmt::format("signal {} at step {} (t = {:.6g} s); the state is saved in {}; continue with --restart {}",
-                              sig, solver.steps(), now, ck_path, ck_path)
+            out ? fmt::format("signal {} at step {} (t = {:.6g} s); the state is saved in {}; continue with {} --restart {}",
+                              sig, solver.steps(), now, ck_path, options.resume_command, shell_word(ck_path))
                 : fmt::format("signal {} at step {} (t = {:.6g} s)", sig, solver.steps(), now),
             sig);
       }
@@ -229,8 +269,12 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   } catch (const RunError& e) {
     if (out) out->flush_global();  // keep the history up to the failure
     if (saved.first < 0) throw;
-    throw RunError(fmt::format("{}\nthe latest checkpoint is step {}: {} (tsuchi run ... --restart {})", e.what(),
-                               saved.first, saved.second, saved.second),
+    throw RunError(fmt::format("{}\nthe latest checkpoint is step {}: {} (continue with {}{} --restart {})", e.what(),
+                               saved.first, saved.second, options.resume_command,
+                               e.fault == Fault::UnstableStep && model.config.time.dt
+                                   ? fmt::format(" --set time.dt={:.3g}", 0.5 * *model.config.time.dt)
+                                   : std::string{},
+                               shell_word(saved.second)),
                    e.fault);
   } catch (const OutputError& e) {
     try {

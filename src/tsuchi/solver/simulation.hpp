@@ -23,6 +23,9 @@ struct RunOptions {
   std::function<void(const Progress&)> on_progress;  // called after every step
   bool write_output = true;
   std::optional<std::string> restart;  // checkpoint to continue from
+  // The command that continues this run from its checkpoint, less the checkpoint: the program,
+  // the input, -o and every --set of this run ("tsuchi run m.toml -o out --set ..."), for messages.
+  std::string resume_command = "tsuchi run ...";
 };
 
 struct RunSummary {
@@ -34,6 +37,10 @@ struct RunSummary {
   std::string stopped_by;  // the recorder bound that ended the run early, if one did
   std::string checkpoint;  // the final checkpoint, when the input asks for checkpoints
 };
+
+// A word for a POSIX shell: as it is when it holds nothing the shell would read, else in single
+// quotes (for the commands that messages suggest).
+std::string shell_word(const std::string& word);
 
 // Where the checkpoint of a run writing to `output_directory` goes.
 std::string checkpoint_path(const Config& config, const std::string& output_directory);

@@ -234,6 +234,9 @@ stress = { xx = "hold", zz = "hold" }
 
 TEST(ElementInput, RefusesBadPaths) {
   ASSERT_NO_THROW(read(kGeneral));
+  // A title with a line break broke the CSV header (issue 13).
+  expect_message(input_error("title = \"a\\nb\"\n" + kGeneral),
+                 {"element.toml:1:9: key 'title'", "expected a title on one line"});
   // An empty array of segments was accepted as a path of no increment (issue 13).
   try {
     io::read_element_string(kGeneral, "element.toml", {"test.segments=[]"});

@@ -517,4 +517,39 @@ TEST(ProgramErrors, StepEstimateCountsFrameTimes) {
   expect_message(r.output, {"done: 150 steps to t = 0.05 s"});
 }
 
+// Text the input gives that was silently cut or printed raw (issue 13): a --set value with a line
+// break (toml++ read the second line as another key, which was dropped), a 1 MB key printed whole.
+TEST(InputErrors, OverrideWithALineBreakIsRefused) {
+  const std::string msg = input_error(kValid, {"time.end=0.5\ngrid.cell_size=0.2"});
+  expect_message(msg, {"case.toml: override 'time.end=0.5\\u{000A}grid.cell_size=0.2'",
+                       "expected key=value on one line, got a line break in the value"});
+}
+
+TEST(InputErrors, HugeKeyIsCutInTheMessage) {
+  const std::string key(1u << 20, 'k');
+  const std::string msg = input_error(kValid, {"grid." + key + "=1"});
+  expect_message(msg, {"unknown key 'grid.kkkk", "... (1048576 bytes in all)'"});
+  EXPECT_LT(msg.size(), 400u) << msg.substr(0, 400);
+}
+
+// `run --set k=v FILE`: the option took FILE as a second value and said "file is required".
+TEST(ProgramErrors, SetBeforeTheFile) {
+  TempDir tmp("tsuchi_input_errors");
+  write_file(tmp.path / "good.toml", kValid);
+  const ProgramResult r = run_program("check -s time.end=0.02 --set grid.cell_size=0.05 " + quoted(tmp.path / "good.toml"));
+  EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {"grid       20 x 10 cells of 0.05 m", "to t = 0.02 s", "input is valid"});
+}
+
+// An output directory that is a dangling symbolic link said "File exists".
+TEST(ProgramErrors, DanglingOutputLinkIsNamed) {
+  TempDir tmp("tsuchi_input_errors");
+  write_file(tmp.path / "good.toml", kValid);
+  fs::create_symlink(tmp.path / "gone", tmp.path / "link");
+  const ProgramResult r = run_program("run -q " + quoted(tmp.path / "good.toml") + " -o " + quoted(tmp.path / "link"));
+  EXPECT_EQ(r.status, tsuchi::exit_code::output) << r.output;
+  expect_message(r.output, {"cannot create the output directory " + (tmp.path / "link").string() +
+                                ": it is a symbolic link to " + (tmp.path / "gone").string() + ", which does not exist"});
+}
+
 }  // namespace

@@ -190,7 +190,8 @@ def main():
         p.send_signal(signal.SIGTERM)
         out, _ = p.communicate()
         check(p.returncode == 128 + signal.SIGTERM, f"SIGTERM gave exit code {p.returncode}: {out}")
-        check("continue with --restart" in out, f"the message does not say how to continue: {out}")
+        check(f"continue with tsuchi run {inp} -o {d} --restart {os.path.join(d, 'checkpoint.tsuchi')}" in out,
+              f"the message does not say how to continue: {out}")
         check_directory(d, "after SIGTERM")
         p = run(binary, inp, d, "--restart", os.path.join(d, "checkpoint.tsuchi"))
         out, _ = p.communicate()
@@ -213,7 +214,8 @@ def main():
             if p.returncode == 0:
                 continue  # ended before the signals
             check(p.returncode == 128 + signal.SIGTERM, f"SIGTERM twice: exit code {p.returncode}: {out}")
-            check("continue with --restart" in out, f"SIGTERM twice: the message does not say how to continue: {out}")
+            check(f"continue with tsuchi run {inp} -o {d} --restart {ck}" in out,
+                  f"SIGTERM twice: the message does not say how to continue: {out}")
             check_directory(d, f"after SIGTERM twice ({attempt})")
             p = run(binary, inp, d, "--restart", ck)
             out, _ = p.communicate()

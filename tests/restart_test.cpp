@@ -283,6 +283,16 @@ TEST(Faults, UnstableFixedStepSavesTheLastGoodState) {
   EXPECT_EQ(r.status, exit_code::unstable_step) << r.output;
   expect_message(r.output, {"above the stable limit", "time.courant", "latest checkpoint is step",
                             (out / "checkpoint.tsuchi").string()});
+  // Where and when (issue 13): the step, the time, the particle that sets the limit and its body;
+  // advice that works from the command line although the file sets time.dt; and the command that
+  // continues, with the run's own -o and --set.
+  EXPECT_TRUE(std::regex_search(r.output, std::regex("step [0-9]+ \\(t = [-0-9.e]+ s\\): particle [0-9]+ of body "
+                                                     "\"column\" at \\([-0-9.e]+, [-0-9.e]+\\): time.dt = 0.012 s")))
+      << r.output;
+  expect_message(r.output, {"set a smaller time.dt (--set time.dt=", "or replace time.dt by time.courant in",
+                            "continue with tsuchi run " + (tmp.path / "fall.toml").string() + " -o " + out.string() +
+                                " --set checkpoint.every_steps=1000 --set time.dt=0.006 --restart " +
+                                (out / "checkpoint.tsuchi").string()});
   EXPECT_TRUE(fs::exists(out / "checkpoint.tsuchi"));
   // The saved state restarts with a smaller step.
   const ProgramResult again = run_program("run -q " + quoted(tmp.path / "fall.toml") + " -o " + quoted(out) +

@@ -133,6 +133,7 @@ void clamp_environment_threads() {
 int dispatch(bool run_it, const Options& o) {
   if (o.threads > 0) omp_set_num_threads(o.threads);
   const Config c = read_config_file(o.file, o.overrides);
+  for (const auto& w : c.warnings) fmt::print(stderr, "warning: {}\n", w);
   if (c.dimension == 2) return run_it ? run<2>(c, o) : check<2>(c);
   return run_it ? run<3>(c, o) : check<3>(c);
 }

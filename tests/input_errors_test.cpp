@@ -552,4 +552,23 @@ TEST(ProgramErrors, DanglingOutputLinkIsNamed) {
                                 ": it is a symbolic link to " + (tmp.path / "gone").string() + ", which does not exist"});
 }
 
+// A friction angle of 0.35 (radians by mistake) or a modulus in MPa was taken silently; now a
+// warning names the key and the likely slip, and the input is still accepted (issue 13).
+TEST(InputValid, UnitSlipsAreWarnedAbout) {
+  std::string text = replace(kValid, "model = \"linear_elastic\"", "model = \"mohr_coulomb\"\ncohesion = 1e3\nfriction_angle = 0.35");
+  text = replace(text, "youngs_modulus = 1.0e7", "youngs_modulus = 10.0");
+  const tsuchi::Config c = read_config_string(text, "case.toml");
+  ASSERT_EQ(c.warnings.size(), 2u);
+  expect_message(c.warnings[0], {at_line(line_of(text, "youngs_modulus")), "key 'materials.0.youngs_modulus'",
+                                 "10 Pa is below 1 kPa; moduli are in Pa (for 10 MPa write 1e+07)"});
+  expect_message(c.warnings[1], {at_line(line_of(text, "friction_angle")), "key 'materials.0.friction_angle'",
+                                 "0.35 degrees is below 1 degree", "0.35 radians would be 20.05 degrees"});
+  EXPECT_TRUE(read_config_string(kValid, "case.toml").warnings.empty());
+  TempDir tmp("tsuchi_input_errors");
+  write_file(tmp.path / "slip.toml", text);
+  const ProgramResult r = run_program("check " + quoted(tmp.path / "slip.toml"));
+  EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {"warning: " + (tmp.path / "slip.toml").string() + ":", "0.35 degrees", "input is valid"});
+}
+
 }  // namespace

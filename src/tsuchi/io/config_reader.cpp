@@ -465,7 +465,7 @@ Config read_document(const toml::table& root, const std::string& file) {
   const auto mats = top.need_tables("materials", "at least one [[materials]] table");
   for (std::size_t i = 0; i < mats.size(); ++i) {
     Section s(*mats[i], fmt::format("materials.{}", i), file);
-    c.materials.push_back(read_material(s, c.materials));
+    c.materials.push_back(read_material(s, c.materials, &c.warnings));
   }
 
   const auto bodies = top.need_tables("bodies", "at least one [[bodies]] table");

@@ -142,6 +142,8 @@ struct Config {
   // checkpoint schedule, time step choice, stop bounds or title): a checkpoint restarts only a
   // configuration with the same fingerprint.
   std::uint64_t fingerprint = 0;
+  // Valid values that look like a slip of units ("FILE:LINE:COL: key '...': ..."); printed, not refused.
+  std::vector<std::string> warnings;
 };
 
 const char* to_string(Scheme s);

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 
@@ -62,8 +63,10 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
       "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       "  <UnstructuredGrid>\n"
       "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n"
-      "      <PointData>\n",
-      n, n);
+      "      <PointData{}>\n",
+      n, n,
+      // The field ParaView colours by when a frame is opened: where the shear bands are.
+      std::find(fields.begin(), fields.end(), "max_shear_strain") != fields.end() ? " Scalars=\"max_shear_strain\"" : "");
   for (const auto& f : fields) {
     if (f == "id") b.array(xml, "Int32", f, 1, p.id_p);
     else if (f == "displacement") b.array(xml, "Float64", f, 3, vectors3<D>(p.u_p));
@@ -74,6 +77,22 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
       std::vector<double> g(n);
       for (std::size_t i = 0; i < n; ++i) g[i] = max_shear_strain<D>(p.eps_p[i]);
       b.array(xml, "Float64", f, 1, g);
+    } else if (f == "mean_stress") {
+      // p = tr(sigma) / 3, tension positive (sigma_zz included in 2D), Pa.
+      std::vector<double> mean(n);
+      for (std::size_t i = 0; i < n; ++i) mean[i] = trace<D>(p.sigma_p[i]) / 3.0;
+      b.array(xml, "Float64", f, 1, mean);
+    } else if (f == "deviator_stress") {
+      // q = sqrt(3 J2), the von Mises stress, Pa.
+      std::vector<double> q(n);
+      for (std::size_t i = 0; i < n; ++i) q[i] = von_mises<D>(p.sigma_p[i]);
+      b.array(xml, "Float64", f, 1, q);
+    } else if (f == "radius") {
+      // Half the side of the particle's GIMP domain, the mean over the axes: the size ParaView's
+      // Point Gaussian representation draws each particle with (docs/input.md).
+      std::vector<double> r(n);
+      for (std::size_t i = 0; i < n; ++i) r[i] = p.l_p[i].mean();
+      b.array(xml, "Float64", f, 1, r);
     } else if (f == "volume") b.array(xml, "Float64", f, 1, p.V_p);
     else if (f == "mass") b.array(xml, "Float64", f, 1, p.m_p);
     else if (f == "density") {

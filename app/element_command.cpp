@@ -1,5 +1,7 @@
 #include "element_command.hpp"
 
+#include "tsuchi/core/version.hpp"
+
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/element/element_csv.hpp"
 #include "tsuchi/element/element_driver.hpp"
@@ -60,7 +62,7 @@ int run_element_command(const ElementOptions& o) {
     failure = e.what();
   }
 
-  std::vector<std::string> notes{fmt::format("tsuchi element {}{}", in.source,
+  std::vector<std::string> notes{fmt::format("tsuchi {} element {}{}", version, in.source,
                                              in.title.empty() ? "" : fmt::format(" ({})", in.title)),
                                  fmt::format("material {}", material), fmt::format("path: {}", in.path.description),
                                  fmt::format("stress control converged to {:g} of the stress scale",

@@ -8,6 +8,8 @@
 
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/interrupt.hpp"
+#include "tsuchi/core/version.hpp"
+#include "tsuchi/io/element_reader.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/solver/simulation.hpp"
@@ -44,11 +46,13 @@ void print_summary(const Model<D>& m, const std::string& output_dir) {
   const Config& c = m.config;
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
   const double dt = next_time_step(c.time, dt_crit, 0, c.source);
+  fmt::print("tsuchi     {}\n", version);
   fmt::print("model      {}{}\n", c.source, c.title.empty() ? "" : fmt::format(" ({})", c.title));
   fmt::print("dimension  {}\n", D == 2 ? "2 (plane strain)" : "3");
   std::string cells;
   for (int d = 0; d < D; ++d) cells += fmt::format("{}{}", d ? " x " : "", c.grid.cells[d]);
   fmt::print("grid       {} cells of {} m, {} nodes\n", cells, m.grid.h, m.grid.node_count());
+  for (const auto& mat : c.materials) fmt::print("material   {}\n", io::describe_material(mat));
   for (std::size_t b = 0; b < c.bodies.size(); ++b)
     fmt::print("body       {:<16} {:>9} particles, material \"{}\"\n", c.bodies[b].name, m.body_particles[b],
                c.bodies[b].material);
@@ -143,6 +147,13 @@ int dispatch(bool run_it, const Options& o) {
 int main(int argc, char** argv) {
   CLI::App app{"tsuchi: GIMP / MPM solver for large-deformation geomechanics"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("tsuchi ") + version);
+  app.footer(
+      "Every input key, its unit and default: docs/input.md (in the source tree).\n"
+      "Exit codes: 0 done (also when a recorder stops the run), 1 command line, 2 input, 3 run fault,\n"
+      "  4 output (also: another run holds the output directory), 5 internal error, 6 non-finite state,\n"
+      "  7 particle left the grid, 8 volume collapse, 9 time step above the stable limit,\n"
+      "  130 / 143 interrupted by SIGINT / SIGTERM after the state was saved.");
   Options o;
   auto* run_cmd = app.add_subcommand("run", "Run the model in an input file");
   run_cmd->add_option("file", o.file, "Input file (TOML)")->required();

@@ -2,6 +2,7 @@
 // the line (where there is one), the key and what was expected; and the `tsuchi` program maps the
 // error kinds to exit codes (2 input, 3 run fault) without leaving broken output behind.
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/core/version.hpp"
 #include "tsuchi/io/config_reader.hpp"
 
 #include "test_support.hpp"
@@ -569,6 +570,24 @@ TEST(InputValid, UnitSlipsAreWarnedAbout) {
   const ProgramResult r = run_program("check " + quoted(tmp.path / "slip.toml"));
   EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
   expect_message(r.output, {"warning: " + (tmp.path / "slip.toml").string() + ":", "0.35 degrees", "input is valid"});
+}
+
+// --version, --help pointing to docs/input.md with the exit codes, the version and the materials
+// in the summary (issue 13).
+TEST(ProgramErrors, VersionHelpAndMaterialSummary) {
+  ProgramResult r = run_program("--version");
+  EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  EXPECT_EQ(r.output, std::string("tsuchi ") + tsuchi::version + "\n");
+  r = run_program("--help");
+  EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {"docs/input.md", "Exit codes: 0 done", "2 input", "4 output", "9 time step above the stable limit",
+                            "130 / 143 interrupted"});
+  TempDir tmp("tsuchi_input_errors");
+  write_file(tmp.path / "good.toml", kValid);
+  r = run_program("check " + quoted(tmp.path / "good.toml"));
+  EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {std::string("tsuchi     ") + tsuchi::version,
+                            "material   \"soil\": linear_elastic, density 2000 kg/m^3, G = 3.84615e+06 Pa, nu = 0.3"});
 }
 
 }  // namespace

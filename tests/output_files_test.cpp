@@ -100,6 +100,8 @@ TEST(Output, RunWritesCompleteFramesSeriesAndCsv) {
   // What a ParaView user needs first (issue 13): the particle size for Point Gaussian, p and q per
   // particle, and max_shear_strain as the active scalar.
   EXPECT_NE(last_doc.find("<PointData Scalars=\"max_shear_strain\">"), std::string::npos);
+  EXPECT_NE(last_doc.find("<!-- written by tsuchi 0."), std::string::npos);
+  EXPECT_NE(pvd.find("<!-- written by tsuchi 0."), std::string::npos);
   for (std::size_t i = 0; i < m.particles.size(); ++i) {
     const auto value = [&](const char* name) {
       double v = 0;

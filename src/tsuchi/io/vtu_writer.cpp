@@ -1,6 +1,7 @@
 #include "tsuchi/io/vtu_writer.hpp"
 
 #include "tsuchi/core/principal.hpp"
+#include "tsuchi/core/version.hpp"
 
 #include <fmt/format.h>
 
@@ -60,11 +61,12 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
   VtuBuilder b;
   std::string xml = fmt::format(
       "<?xml version=\"1.0\"?>\n"
+      "<!-- written by tsuchi {} -->\n"
       "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       "  <UnstructuredGrid>\n"
       "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n"
       "      <PointData{}>\n",
-      n, n,
+      version, n, n,
       // The field ParaView colours by when a frame is opened: where the shear bands are.
       std::find(fields.begin(), fields.end(), "max_shear_strain") != fields.end() ? " Scalars=\"max_shear_strain\"" : "");
   for (const auto& f : fields) {
@@ -125,10 +127,12 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
 }
 
 std::string pvd_document(const std::vector<std::pair<double, std::string>>& frames) {
-  std::string xml =
+  std::string xml = fmt::format(
       "<?xml version=\"1.0\"?>\n"
+      "<!-- written by tsuchi {} -->\n"
       "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
-      "  <Collection>\n";
+      "  <Collection>\n",
+      version);
   for (const auto& [t, file] : frames)
     xml += fmt::format("    <DataSet timestep=\"{:.12g}\" part=\"0\" file=\"{}\"/>\n", t, file);
   xml += "  </Collection>\n</VTKFile>\n";

@@ -66,6 +66,14 @@ void print_summary(const Model<D>& m, const std::string& output_dir) {
              c.time.max_steps > 0 && length.steps >= static_cast<double>(c.time.max_steps)
                  ? fmt::format(" (stopped by time.max_steps = {})", c.time.max_steps)
                  : std::string{});
+  for (const auto& r : c.recorders) {
+    if (r.stop_above)
+      fmt::print("stop       when {} >= {:g} (before time.end: fewer steps and frames than estimated here)\n", r.name,
+                 *r.stop_above);
+    if (r.stop_below)
+      fmt::print("stop       when {} <= {:g} (before time.end: fewer steps and frames than estimated here)\n", r.name,
+                 *r.stop_below);
+  }
   fmt::print("output     {} ({:.0f} frames{})\n", output_dir, length.frames,
              c.output.global_interval > 0 ? fmt::format(", global.csv every {} s", c.output.global_interval)
                                           : ", global.csv every step");

@@ -106,6 +106,34 @@ TEST(Recorders, StopBoundEndsTheRunAtTheFirstCrossing) {
   EXPECT_NEAR(s.time, 0.05, 2e-3);
 }
 
+// A run a recorder stops at t = 0.05 s of time.end = 1 s: the progress (and so the ETA) follows the
+// recorder's way to its bound, not the time, which would say 5 % at the end (issue 13).
+TEST(Recorders, ProgressFollowsTheRecorderThatStopsTheRun) {
+  Config c = config();
+  Model<2> m = build_model<2>(c);
+  const Recorder<2> drift(c.recorders[0], m);
+  RunOptions o = no_output();
+  std::vector<Progress> seen;
+  o.on_progress = [&](const Progress& p) {
+    seen.push_back(p);
+    const double expected = std::min(1.0, drift.value(m.particles) / 5.0);
+    ASSERT_NEAR(p.fraction, expected, 1e-12) << "step " << p.step;
+    ASSERT_EQ(p.leader, "drift");
+    ASSERT_EQ(p.leader_bound, 5.0);
+    ASSERT_GT(p.fraction, 10.0 * p.time / p.end_time) << "the time would say about 5 % of this";
+  };
+  const RunSummary s = run_simulation<2>(m, o);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.back().fraction, 1.0);
+  EXPECT_EQ(seen.back().step, s.steps);
+  // The program's progress lines say the same: the last one 100 % with the recorder's value.
+  TempDir tmp("tsuchi_recorders");
+  write_file(tmp.path / "moving.toml", kMoving);
+  const ProgramResult r = run_program("run " + quoted(tmp.path / "moving.toml") + " -o " + quoted(tmp.path / "out"));
+  ASSERT_EQ(r.status, exit_code::ok) << r.output;
+  expect_message(r.output, {"% step ", " drift=", "/5 t=", "100.0% step " + std::to_string(s.steps) + " drift=5"});
+}
+
 TEST(Recorders, BadInputNamesTheKey) {
   const struct {
     std::string override_, key, words;

@@ -146,6 +146,11 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
                                    model.config.source, *options.restart, start.time, end));
     solver.resume(start.time, start.steps);
   }
+  // Where each recorder with a stop bound starts, for the progress it makes towards the bound.
+  std::vector<double> recorder_start(recorders.size(), 0.0);
+  for (std::size_t k = 0; k < recorders.size(); ++k)
+    if (recorders[k].config().stop_above || recorders[k].config().stop_below)
+      recorder_start[k] = recorders[k].value(model.particles);
   // Check the first step before anything is written: a refused dt leaves the directory untouched.
   double dt = next_time_step(tc, critical_time_step<D>(model.particles, model.config.materials, model.grid.h),
                              0, model.config.source);
@@ -243,13 +248,26 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
         }
         while (next_frame <= now + tol && next_frame < end) next_frame = frame_time(++frame_index);
       }
-      if (options.on_progress)
-        options.on_progress({solver.steps(), now, end, dt, out ? out->frames_written() : 0});
-      for (const auto& r : recorders) {
-        if (!r.config().stop_above && !r.config().stop_below) continue;  // evaluated on output rows only
-        stopped_by = r.stop_reason(r.value(model.particles));
-        if (!stopped_by.empty()) break;
+      Progress progress;
+      progress.step = solver.steps(), progress.time = now, progress.end_time = end, progress.dt = dt;
+      progress.frames = out ? out->frames_written() : 0;
+      progress.fraction = end > 0.0 ? std::clamp(now / end, 0.0, 1.0) : 1.0;
+      for (std::size_t k = 0; k < recorders.size(); ++k) {
+        const auto& r = recorders[k];
+        const auto& rc = r.config();
+        if (!rc.stop_above && !rc.stop_below) continue;  // evaluated on output rows only
+        const double value = r.value(model.particles);
+        // The way from the start value to each bound that lies ahead of it.
+        for (const auto& [bound, sign] : {std::pair{rc.stop_above, 1.0}, std::pair{rc.stop_below, -1.0}}) {
+          if (!bound || sign * (*bound - recorder_start[k]) <= 0.0) continue;
+          const double f = std::clamp((value - recorder_start[k]) / (*bound - recorder_start[k]), 0.0, 1.0);
+          if (f > progress.fraction)
+            progress.fraction = f, progress.leader = rc.name, progress.leader_value = value, progress.leader_bound = *bound;
+        }
+        if (stopped_by.empty()) stopped_by = r.stop_reason(value);
       }
+      if (!stopped_by.empty()) progress.fraction = 1.0;
+      if (options.on_progress) options.on_progress(progress);
       if (const int sig = pending_interrupt()) {
         save();
         interrupt_saved();

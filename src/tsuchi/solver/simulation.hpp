@@ -16,6 +16,11 @@ struct Progress {
   double end_time = 0.0;
   double dt = 0.0;
   std::size_t frames = 0;
+  // How far the run is, 0 to 1: by time, or by a recorder's way from its start value to its stop
+  // bound when that is further along (a run a recorder will stop long before time.end).
+  double fraction = 0.0;
+  std::string leader;  // the recorder that gives `fraction`, or "" when the time does
+  double leader_value = 0.0, leader_bound = 0.0;
 };
 
 struct RunOptions {

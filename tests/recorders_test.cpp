@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -132,6 +134,39 @@ TEST(Recorders, ProgressFollowsTheRecorderThatStopsTheRun) {
   const ProgramResult r = run_program("run " + quoted(tmp.path / "moving.toml") + " -o " + quoted(tmp.path / "out"));
   ASSERT_EQ(r.status, exit_code::ok) << r.output;
   expect_message(r.output, {"% step ", " drift=", "/5 t=", "100.0% step " + std::to_string(s.steps) + " drift=5"});
+}
+
+// A recorder as the frame label, and frames by its value (issue 13): every 1 cm of drift of a block
+// moving at 1 m/s. The .pvd's timestep is the drift, each frame written after the step that
+// passes the next whole centimetre (about 0.01 cm per step).
+TEST(Recorders, FramesLabelledAndScheduledByARecorder) {
+  TempDir tmp("tsuchi_recorders");
+  Model<2> m = build_model<2>(config({"time.end=0.035", "output.frames=true", "output.frame_label=\"drift\"",
+                                      "output.label_interval=1.0", "output.fields=[\"id\"]"}));
+  RunOptions o;
+  o.output_directory = (tmp.path / "out").string();
+  const RunSummary s = run_simulation<2>(m, o);
+  std::ifstream in(tmp.path / "out" / "particles.pvd");
+  const std::string pvd{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  std::vector<double> labels;
+  const std::string key = "timestep=\"";
+  for (auto at = pvd.find(key); at != std::string::npos; at = pvd.find(key, at + 1))
+    labels.push_back(std::stod(pvd.substr(at + key.size())));
+  ASSERT_EQ(labels.size(), 5u) << pvd;  // t = 0, drift 1, 2, 3 cm, and the end (3.5 cm)
+  EXPECT_EQ(s.frames, 5u);
+  EXPECT_EQ(labels[0], 0.0);
+  for (int k = 1; k <= 3; ++k) {
+    EXPECT_GE(labels[static_cast<std::size_t>(k)], k) << pvd;
+    EXPECT_LT(labels[static_cast<std::size_t>(k)], k + 0.02) << pvd;
+  }
+  EXPECT_NEAR(labels[4], 3.5, 0.02) << pvd;
+  // The label must name a recorder.
+  try {
+    config({"output.frame_label=\"strain\""});
+    ADD_FAILURE() << "an unknown frame_label was accepted";
+  } catch (const InputError& e) {
+    expect_message(e.what(), {"key 'output.frame_label'", "expected the name of a recorder (\"drift\", \"bottom_row_y\", \"mass\"), got \"strain\""});
+  }
 }
 
 TEST(Recorders, BadInputNamesTheKey) {

@@ -186,6 +186,7 @@ void write_checkpoint(const std::string& path, const Model<D>& model, const RunP
   e.scalar("dt", r.dt);
   e.scalar("frame_index", r.frame_index);
   e.scalar("row_index", r.row_index);
+  e.scalar("label_index", r.label_index);
   e.scalar("last_frame", r.last_frame);
   e.scalar("last_row", r.last_row);
   model.particles.for_each_array([&](const char* name, const auto& a) { e.array(fmt::format("p.{}", name), a); });
@@ -239,10 +240,11 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
   r.dt = in.scalar<double>("dt");
   r.frame_index = in.scalar<std::int64_t>("frame_index");
   r.row_index = in.scalar<std::int64_t>("row_index");
+  r.label_index = in.scalar<std::int64_t>("label_index");
   r.last_frame = in.scalar<double>("last_frame");
   r.last_row = in.scalar<double>("last_row");
   if (!std::isfinite(r.time) || r.time < 0.0 || r.steps < 0 || !std::isfinite(r.dt) || r.dt < 0.0 ||
-      r.frame_index < 1 || r.row_index < 1 || !std::isfinite(r.last_frame) || !std::isfinite(r.last_row))
+      r.frame_index < 1 || r.row_index < 1 || r.label_index < 0 || !std::isfinite(r.last_frame) || !std::isfinite(r.last_row))
     in.fail("the time or the output counters are out of range");
   Particles<D> p;
   p.for_each_array([&](const char* name, auto& a) { in.array(fmt::format("p.{}", name), a, static_cast<std::size_t>(count)); });

@@ -27,6 +27,7 @@ struct RunProgress {
   double dt = 0.0;                 // the last step's size
   std::int64_t frame_index = 1;    // index of the next scheduled frame time
   std::int64_t row_index = 1;      // index of the next scheduled global.csv row
+  std::int64_t label_index = 0;    // k of the next frame by recorder value, k * output.label_interval
   double last_frame = 0.0, last_row = 0.0;  // times of the last frame and row written
   OutputHistory output;
 };

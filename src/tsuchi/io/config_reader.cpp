@@ -318,6 +318,10 @@ void read_output(Section& s, Config& c) {
   o.interval = s.number("interval", "a non-negative time in s", non_negative, 0.0);
   o.global_interval = s.number("global_interval", "a non-negative time in s", non_negative, 0.0);
   o.write_frames = s.boolean("frames", true);
+  o.frame_label = s.string("frame_label", "the name of a recorder", std::string{});
+  o.label_interval = s.number("label_interval", "a positive step of the frame_label recorder's value", positive, 0.0);
+  if (s.has("label_interval") && o.frame_label.empty())
+    s.fail("label_interval", "frames by a recorder's value need 'frame_label', the name of that recorder");
   o.fields.clear();
   if (const toml::node* n = s.get("fields")) {
     auto a = n->as_array();
@@ -506,6 +510,16 @@ Config read_document(const toml::table& root, const std::string& file) {
     read_recorder(s, c);
   }
 
+  if (!c.output.frame_label.empty()) {
+    const auto it = std::find_if(c.recorders.begin(), c.recorders.end(),
+                                 [&](const RecorderConfig& r) { return r.name == c.output.frame_label; });
+    if (it == c.recorders.end())
+      os.fail("frame_label", fmt::format("expected the name of a recorder ({}), got \"{}\"",
+                                         c.recorders.empty() ? std::string("none defined")
+                                                             : quoted_list(c.recorders, &RecorderConfig::name),
+                                         printable(c.output.frame_label)));
+    c.output.frame_label_recorder = static_cast<int>(it - c.recorders.begin());
+  }
   top.finish();
   c.fingerprint = fingerprint(root);
   return c;

@@ -117,7 +117,8 @@ void OutputWriter<D>::frame(double time) {
   if (!m_.config.output.write_frames) return;
   const std::string name = fmt::format("particles_{:06d}.vtu", h_.frames.size());
   write_file_atomically(dir_ + "/" + name, vtu_document<D>(m_, m_.config.output.fields));
-  h_.frames.emplace_back(time, name);
+  const int label = m_.config.output.frame_label_recorder;
+  h_.frames.emplace_back(label >= 0 ? recorders_[static_cast<std::size_t>(label)].value(m_.particles) : time, name);
   write_file_atomically(dir_ + "/particles.pvd", pvd_document(h_.frames));
   flush_global();
 }

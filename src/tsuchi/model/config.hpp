@@ -109,6 +109,12 @@ struct OutputConfig {
   double global_interval = 0.0;    // s between rows of the global CSV; 0: every step
   std::vector<std::string> fields;  // particle fields in the .vtu frames
   bool write_frames = true;
+  // A recorder that labels the frames: its value is each frame's "timestep" in the .pvd (so
+  // ParaView's time axis is, say, the axial strain). With label_interval > 0 a frame is also
+  // written after the step at which the recorder passes each multiple k * label_interval.
+  std::string frame_label;          // "" = frames labelled by time
+  int frame_label_recorder = -1;    // its index in Config::recorders
+  double label_interval = 0.0;
 };
 
 // A recorded quantity: `reduction` over a particle set of one per-particle quantity, written as

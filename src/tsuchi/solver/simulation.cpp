@@ -167,7 +167,17 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
     }
   }
   std::string stopped_by;
-  std::int64_t frame_index = start.frame_index, row_index = start.row_index;
+  std::int64_t frame_index = start.frame_index, row_index = start.row_index, label_index = start.label_index;
+  // Frames by a recorder's value (output.label_interval): one after the step that passes each
+  // multiple k * label_interval, as rows of global.csv follow global_interval.
+  const Recorder<D>* label = oc.frame_label_recorder >= 0 ? &recorders[static_cast<std::size_t>(oc.frame_label_recorder)] : nullptr;
+  auto label_due = [&](double value) {
+    return label && oc.label_interval > 0.0 && value >= oc.label_interval * static_cast<double>(label_index);
+  };
+  auto next_label = [&](double value) {
+    label_index = static_cast<std::int64_t>(std::floor(value / oc.label_interval)) + 1;
+  };
+  if (!options.restart && label && oc.label_interval > 0.0) next_label(label->value(model.particles));
   auto frame_time = [&](std::int64_t k) { return oc.interval > 0 ? std::min(end, static_cast<double>(k) * oc.interval) : end; };
   // A restart may come with another output interval or end time: skip frame times already past.
   while (frame_time(frame_index) <= start.time && frame_time(frame_index) < end) ++frame_index;
@@ -185,7 +195,10 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   auto save = [&] {
     if (!out) return;
     out->flush_global(true);  // the rows the checkpoint names are on disk before it
-    RunProgress now{solver.time(), solver.steps(), dt, frame_index, row_index, last_frame, last_row, out->history()};
+    RunProgress now;
+    now.time = solver.time(), now.steps = solver.steps(), now.dt = dt;
+    now.frame_index = frame_index, now.row_index = row_index, now.label_index = label_index;
+    now.last_frame = last_frame, now.last_row = last_row, now.output = out->history();
     write_checkpoint<D>(ck_path, model, now);
     last_checkpoint = clock::now();
     saved = {solver.steps(), ck_path};
@@ -241,12 +254,15 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
           last_flush = clock::now();
         }
       }
-      if (now >= next_frame - tol) {
+      const double label_value = label && oc.label_interval > 0.0 ? label->value(model.particles) : 0.0;
+      const bool by_label = label_due(label_value);
+      if (now >= next_frame - tol || by_label) {
         if (out) {
           out->frame(now);
           last_frame = now;
         }
         while (next_frame <= now + tol && next_frame < end) next_frame = frame_time(++frame_index);
+        if (by_label) next_label(label_value);
       }
       Progress progress;
       progress.step = solver.steps(), progress.time = now, progress.end_time = end, progress.dt = dt;

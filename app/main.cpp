@@ -10,6 +10,7 @@
 #include "tsuchi/core/interrupt.hpp"
 #include "tsuchi/core/version.hpp"
 #include "tsuchi/io/element_reader.hpp"
+#include "tsuchi/io/output_writer.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/solver/simulation.hpp"
@@ -83,6 +84,7 @@ void print_summary(const Model<D>& m, const std::string& output_dir) {
 
 template <int D>
 int check(const Config& c) {
+  check_output_paths(c, c.output.directory, checkpoint_path(c, c.output.directory));
   const Model<D> m = build_model<D>(c);
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
   check_run_length(c, next_time_step(c.time, dt_crit, 0, c.source));

@@ -113,6 +113,9 @@ def main():
             check("key 'checkpoint.file'" in msg and text in msg and "(command-line override)" in msg,
                   f"checkpoint.file = {value!r}: message {msg!r}")
             check(not os.path.exists(out), f"checkpoint.file = {value!r}: the refused run wrote {out}")
+            c = subprocess.run([binary, "check", inp, "--set", f'checkpoint.file="{value}"', "--set",
+                                f'output.directory="{out}"'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            check(c.returncode == 2 and text in c.stdout, f"check, checkpoint.file = {value!r}: exit {c.returncode}: {c.stdout}")
         check(open(inp).read() == INPUT, "the input file was changed")
         code, msg = run(binary, inp, "-o", out, "--set", 'checkpoint.file="sub/dir/x"', "--set", "time.max_steps=20",
                         "--set", "checkpoint.every_steps=10")

@@ -203,7 +203,8 @@ def main():
         # checkpoint is left, and the restart ends byte-identical to the uninterrupted run.
         d = os.path.join(tmp, "twice")
         ck = os.path.join(d, "checkpoint.tsuchi")
-        for attempt in range(int(os.environ.get("TSUCHI_TWICE_REPEATS", "4"))):
+        repeats, interrupted = int(os.environ.get("TSUCHI_TWICE_REPEATS", "4")), 0
+        for attempt in range(repeats):
             shutil.rmtree(d, ignore_errors=True)
             p = run(binary, inp, d)
             time.sleep(rng.uniform(0.05, 0.8 * duration))
@@ -213,6 +214,7 @@ def main():
             out, _ = p.communicate()
             if p.returncode == 0:
                 continue  # ended before the signals
+            interrupted += 1
             check(p.returncode == 128 + signal.SIGTERM, f"SIGTERM twice: exit code {p.returncode}: {out}")
             check(f"continue with tsuchi run {inp} -o {d} --restart {ck}" in out,
                   f"SIGTERM twice: the message does not say how to continue: {out}")
@@ -221,6 +223,8 @@ def main():
             out, _ = p.communicate()
             check(p.returncode == 0, f"restart after SIGTERM twice failed: {out}")
             same_files(ref, d, f"after SIGTERM twice ({attempt})")
+        print(f"SIGTERM twice: {interrupted} of {repeats} runs interrupted, each saved and restarted bitwise")
+        check(interrupted >= repeats // 2, f"only {interrupted} of {repeats} runs were still running at the signals")
 
         # A full disk, played by a file-size limit that the frames fit under and the checkpoint does not.
         d = os.path.join(tmp, "full")

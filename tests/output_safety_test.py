@@ -144,6 +144,7 @@ def main():
         code, msg = run(binary, inp, "-o", shared)
         took = time.time() - t0
         out1, _ = first.communicate(timeout=120)
+        print(f"second run into a busy directory: exit {code} after {took:.3f} s")
         check(code == 4 and took < 1.0 and f"process id {first.pid}" in msg,
               f"the second run: exit {code} after {took:.2f} s: {msg}")
         check(first.returncode == 0, f"the first run: exit {first.returncode}: {out1}")

@@ -41,6 +41,7 @@ std::string kpa(double pa) { return fmt::format("{:.5g} kPa", pa / 1e3); }
 
 int run_element_command(const ElementOptions& o) {
   const io::ElementInput in = io::read_element_file(o.file, o.overrides);
+  for (const auto& w : in.warnings) fmt::print(stderr, "warning: {}\n", w);
   const std::string out = output_path(o);
   refuse_overwriting_input(o.file, out);
   if (const fs::path dir = fs::path(out).parent_path(); !dir.empty()) prepare_output_directory(dir.string());

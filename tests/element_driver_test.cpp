@@ -234,6 +234,10 @@ stress = { xx = "hold", zz = "hold" }
 
 TEST(ElementInput, RefusesBadPaths) {
   ASSERT_NO_THROW(read(kGeneral));
+  // A friction angle in radians by mistake is warned about, not refused (issue 13).
+  const io::ElementInput slip = read(replace(kGeneral, "friction_angle = 30.5", "friction_angle = 0.53"));
+  ASSERT_EQ(slip.warnings.size(), 1u);
+  expect_message(slip.warnings[0], {"element.toml:", "key 'materials.0.friction_angle'", "0.53 degrees is below 1 degree"});
   // A title with a line break broke the CSV header (issue 13).
   expect_message(input_error("title = \"a\\nb\"\n" + kGeneral),
                  {"element.toml:1:9: key 'title'", "expected a title on one line"});

@@ -273,7 +273,7 @@ ElementInput read_element_string(const std::string& text, const std::string& fil
   const auto mats = top.need_tables("materials", "at least one [[materials]] table");
   for (std::size_t i = 0; i < mats.size(); ++i) {
     Section s(*mats[i], fmt::format("materials.{}", i), file);
-    materials.push_back(read_material(s, materials));
+    materials.push_back(read_material(s, materials, &in.warnings));
   }
 
   const toml::table* test_t = top.table("test");

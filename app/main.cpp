@@ -62,18 +62,21 @@ void print_summary(const Model<D>& m, const std::string& output_dir) {
              to_string(c.solver.shape), c.solver.pic_fraction, c.solver.damping);
   fmt::print("time step  {:.4g} s ({}; stable limit {:.4g} s)\n", dt,
              c.time.courant ? fmt::format("Courant {}", *c.time.courant) : std::string("fixed"), dt_crit);
-  const RunLength length = estimate_run_length(c, dt);
-  fmt::print("steps      about {:.0f} to t = {} s{}\n", length.steps, c.time.end,
+  // To the time a recorder will stop the run when that can be foreseen, else to time.end.
+  const auto stop = forecast_stop(c);
+  Config to_stop = c;
+  if (stop) to_stop.time.end = stop->time;
+  const RunLength length = estimate_run_length(to_stop, dt);
+  fmt::print("steps      about {:.0f} to t = {:.6g} s{}\n", length.steps, to_stop.time.end,
              c.time.max_steps > 0 && length.steps >= static_cast<double>(c.time.max_steps)
                  ? fmt::format(" (stopped by time.max_steps = {})", c.time.max_steps)
-                 : std::string{});
+             : stop ? fmt::format(", where {} reaches {:g} and stops the run (time.end = {} s)", stop->recorder,
+                                  stop->bound, c.time.end)
+                    : std::string{});
   for (const auto& r : c.recorders) {
-    if (r.stop_above)
-      fmt::print("stop       when {} >= {:g} (before time.end: fewer steps and frames than estimated here)\n", r.name,
-                 *r.stop_above);
-    if (r.stop_below)
-      fmt::print("stop       when {} <= {:g} (before time.end: fewer steps and frames than estimated here)\n", r.name,
-                 *r.stop_below);
+    const char* note = stop ? "" : " (maybe before time.end: then fewer steps and frames than estimated here)";
+    if (r.stop_above) fmt::print("stop       when {} >= {:g}{}\n", r.name, *r.stop_above, note);
+    if (r.stop_below) fmt::print("stop       when {} <= {:g}{}\n", r.name, *r.stop_below, note);
   }
   fmt::print("output     {} ({:.0f} frames{})\n", output_dir, length.frames,
              c.output.global_interval > 0 ? fmt::format(", global.csv every {} s", c.output.global_interval)

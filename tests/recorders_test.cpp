@@ -169,6 +169,27 @@ TEST(Recorders, FramesLabelledAndScheduledByARecorder) {
   }
 }
 
+// `check`'s step estimate ignored the stop bounds (issue 13). A recorder of a platen's displacement
+// (prescribed velocity) changes at a known rate: 100 * 1 m/s * t reaches 5 at t = 0.05 s, so the
+// estimate goes to 0.05 s and not to time.end; and a time.end of 1e6 s is no longer refused as
+// 1e10 steps when the platen stops the run after 500.
+TEST(Recorders, CheckForeseesThePlatenStop) {
+  const Config c = config({"bodies.0.prescribed_velocity={x=1.0}", "time.end=1e6"});
+  const auto stop = forecast_stop(c);
+  ASSERT_TRUE(stop.has_value());
+  EXPECT_EQ(stop->recorder, "drift");
+  EXPECT_NEAR(stop->time, 0.05, 1e-15);
+  EXPECT_NO_THROW(check_run_length(c, 1e-4));
+  EXPECT_THROW(check_run_length(config({"time.end=1e6"}), 1e-4), InputError);  // free flight: not foreseeable
+  EXPECT_FALSE(forecast_stop(config()).has_value());
+  TempDir tmp("tsuchi_recorders");
+  write_file(tmp.path / "moving.toml", kMoving);
+  const ProgramResult r = run_program("check " + quoted(tmp.path / "moving.toml") +
+                                      " --set 'bodies.0.prescribed_velocity={x=1.0}' --set time.end=1e6");
+  ASSERT_EQ(r.status, exit_code::ok) << r.output;
+  expect_message(r.output, {"to t = 0.05 s, where drift reaches 5 and stops the run (time.end = 1000000 s)"});
+}
+
 TEST(Recorders, BadInputNamesTheKey) {
   const struct {
     std::string override_, key, words;

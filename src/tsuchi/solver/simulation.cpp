@@ -86,7 +86,32 @@ RunLength estimate_run_length(const Config& c, double dt, double from_time) {
   return r;
 }
 
-void check_run_length(const Config& c, double dt, double from_time) {
+std::optional<StopForecast> forecast_stop(const Config& c) {
+  std::optional<StopForecast> best;
+  for (const auto& r : c.recorders) {
+    if (r.body < 0 || r.quantity.size() != 14 || r.quantity.rfind("displacement_", 0) != 0) continue;
+    const int d = r.quantity.back() - 'x';
+    const BodyConfig& b = c.bodies[static_cast<std::size_t>(r.body)];
+    if (d < 0 || d >= c.dimension || !b.prescribed[d]) continue;
+    if (std::any_of(b.prescribed_gradient[d].begin(), b.prescribed_gradient[d].end(), [](double g) { return g != 0.0; }))
+      continue;
+    // Every particle of the body moves at v0 from t = 0: the column is scale * v0 * t + offset
+    // whatever the reduction (the sum scales with the particle count: left out).
+    if (r.reduction == RecorderConfig::Reduction::Sum) continue;
+    const double rate = r.scale * b.prescribed_velocity[d];
+    for (const auto& bound : {r.stop_above, r.stop_below}) {
+      if (!bound || rate == 0.0) continue;
+      const double t = (*bound - r.offset) / rate;
+      const bool ahead = bound == r.stop_above ? rate > 0.0 : rate < 0.0;
+      if (ahead && t > 0.0 && t < c.time.end && (!best || t < best->time)) best = StopForecast{t, r.name, *bound};
+    }
+  }
+  return best;
+}
+
+void check_run_length(const Config& config, double dt, double from_time) {
+  Config c = config;
+  if (const auto stop = forecast_stop(config)) c.time.end = stop->time;
   const RunLength r = estimate_run_length(c, dt, from_time);
   if (c.time.max_steps == 0 && r.steps > default_step_limit)
     throw InputError(fmt::format(

@@ -62,12 +62,23 @@ struct RunLength {
 };
 RunLength estimate_run_length(const Config& config, double dt, double from_time = 0.0);
 
+// When a recorder's stop bound will end the run, where that is foreseeable: a recorder of the
+// displacement of a body whose velocity along that axis is prescribed (a platen) changes at a known
+// rate. The earliest such time before time.end, or nothing.
+struct StopForecast {
+  double time = 0.0;
+  std::string recorder;
+  double bound = 0.0;
+};
+std::optional<StopForecast> forecast_stop(const Config& config);
+
 // Without time.max_steps a run may take at most this many steps; and no run more frames than this.
 inline constexpr double default_step_limit = 1e8;
 inline constexpr double frame_limit = 1e5;
 
 // Refuses (InputError) a run that cannot finish: more steps than default_step_limit without an
-// explicit time.max_steps, or more frames than frame_limit.
+// explicit time.max_steps, or more frames than frame_limit; counted to the forecast stop when
+// there is one.
 void check_run_length(const Config& config, double dt, double from_time = 0.0);
 
 template <int D>

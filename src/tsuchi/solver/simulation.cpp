@@ -160,6 +160,12 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   // Particle sets are chosen on the initial state, before a checkpoint replaces it.
   std::vector<Recorder<D>> recorders;
   for (const auto& rc : model.config.recorders) recorders.emplace_back(rc, model);
+  // Where each recorder with a stop bound starts (the initial state, also for a restart), for the
+  // progress it makes towards the bound.
+  std::vector<double> recorder_start(recorders.size(), 0.0);
+  for (std::size_t k = 0; k < recorders.size(); ++k)
+    if (recorders[k].config().stop_above || recorders[k].config().stop_below)
+      recorder_start[k] = recorders[k].value(model.particles);
   if (options.write_output) check_output_paths(model.config, dir, ck_path);
   RunProgress start;
   if (options.restart) {
@@ -171,11 +177,6 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
                                    model.config.source, *options.restart, start.time, end));
     solver.resume(start.time, start.steps);
   }
-  // Where each recorder with a stop bound starts, for the progress it makes towards the bound.
-  std::vector<double> recorder_start(recorders.size(), 0.0);
-  for (std::size_t k = 0; k < recorders.size(); ++k)
-    if (recorders[k].config().stop_above || recorders[k].config().stop_below)
-      recorder_start[k] = recorders[k].value(model.particles);
   // Check the first step before anything is written: a refused dt leaves the directory untouched.
   double dt = next_time_step(tc, critical_time_step<D>(model.particles, model.config.materials, model.grid.h),
                              0, model.config.source);

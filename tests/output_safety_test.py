@@ -94,7 +94,7 @@ def rss_kb(pid):
 
 def main():
     binary = os.path.abspath(sys.argv[1])
-    sanitized = b"AddressSanitizer" in open(binary, "rb").read()
+    sanitized = b"__asan_init" in open(binary, "rb").read()
     tmp = tempfile.mkdtemp(prefix="tsuchi_output_safety_")
     try:
         inp = os.path.join(tmp, "m.toml")

@@ -1,5 +1,7 @@
 #include "element_command.hpp"
 
+#include "tsuchi/core/version.hpp"
+
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/element/element_csv.hpp"
 #include "tsuchi/element/element_driver.hpp"
@@ -39,6 +41,7 @@ std::string kpa(double pa) { return fmt::format("{:.5g} kPa", pa / 1e3); }
 
 int run_element_command(const ElementOptions& o) {
   const io::ElementInput in = io::read_element_file(o.file, o.overrides);
+  for (const auto& w : in.warnings) fmt::print(stderr, "warning: {}\n", w);
   const std::string out = output_path(o);
   refuse_overwriting_input(o.file, out);
   if (const fs::path dir = fs::path(out).parent_path(); !dir.empty()) prepare_output_directory(dir.string());
@@ -60,7 +63,7 @@ int run_element_command(const ElementOptions& o) {
     failure = e.what();
   }
 
-  std::vector<std::string> notes{fmt::format("tsuchi element {}{}", in.source,
+  std::vector<std::string> notes{fmt::format("tsuchi {} element {}{}", version, in.source,
                                              in.title.empty() ? "" : fmt::format(" ({})", in.title)),
                                  fmt::format("material {}", material), fmt::format("path: {}", in.path.description),
                                  fmt::format("stress control converged to {:g} of the stress scale",

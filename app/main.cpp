@@ -8,6 +8,9 @@
 
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/interrupt.hpp"
+#include "tsuchi/core/version.hpp"
+#include "tsuchi/io/element_reader.hpp"
+#include "tsuchi/io/output_writer.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/solver/simulation.hpp"
@@ -17,9 +20,14 @@
 #include <omp.h>
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <csignal>
 #include <cstdio>
+#include <string_view>
 
 namespace {
 
@@ -39,11 +47,13 @@ void print_summary(const Model<D>& m, const std::string& output_dir) {
   const Config& c = m.config;
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
   const double dt = next_time_step(c.time, dt_crit, 0, c.source);
+  fmt::print("tsuchi     {}\n", version);
   fmt::print("model      {}{}\n", c.source, c.title.empty() ? "" : fmt::format(" ({})", c.title));
   fmt::print("dimension  {}\n", D == 2 ? "2 (plane strain)" : "3");
   std::string cells;
   for (int d = 0; d < D; ++d) cells += fmt::format("{}{}", d ? " x " : "", c.grid.cells[d]);
   fmt::print("grid       {} cells of {} m, {} nodes\n", cells, m.grid.h, m.grid.node_count());
+  for (const auto& mat : c.materials) fmt::print("material   {}\n", io::describe_material(mat));
   for (std::size_t b = 0; b < c.bodies.size(); ++b)
     fmt::print("body       {:<16} {:>9} particles, material \"{}\"\n", c.bodies[b].name, m.body_particles[b],
                c.bodies[b].material);
@@ -52,9 +62,23 @@ void print_summary(const Model<D>& m, const std::string& output_dir) {
              to_string(c.solver.shape), c.solver.pic_fraction, c.solver.damping);
   fmt::print("time step  {:.4g} s ({}; stable limit {:.4g} s)\n", dt,
              c.time.courant ? fmt::format("Courant {}", *c.time.courant) : std::string("fixed"), dt_crit);
-  fmt::print("steps      about {:.0f} to t = {} s\n", std::ceil(c.time.end / dt), c.time.end);
-  const double frames = c.output.interval > 0 ? std::ceil(c.time.end / c.output.interval) + 1 : 2;
-  fmt::print("output     {} ({:.0f} frames{})\n", output_dir, c.output.write_frames ? frames : 0,
+  // To the time a recorder will stop the run when that can be foreseen, else to time.end.
+  const auto stop = forecast_stop(c);
+  Config to_stop = c;
+  if (stop) to_stop.time.end = stop->time;
+  const RunLength length = estimate_run_length(to_stop, dt);
+  fmt::print("steps      about {:.0f} to t = {:.6g} s{}\n", length.steps, to_stop.time.end,
+             c.time.max_steps > 0 && length.steps >= static_cast<double>(c.time.max_steps)
+                 ? fmt::format(" (stopped by time.max_steps = {})", c.time.max_steps)
+             : stop ? fmt::format(", where {} reaches {:g} and stops the run (time.end = {} s)", stop->recorder,
+                                  stop->bound, c.time.end)
+                    : std::string{});
+  for (const auto& r : c.recorders) {
+    const char* note = stop ? "" : " (maybe before time.end: then fewer steps and frames than estimated here)";
+    if (r.stop_above) fmt::print("stop       when {} >= {:g}{}\n", r.name, *r.stop_above, note);
+    if (r.stop_below) fmt::print("stop       when {} <= {:g}{}\n", r.name, *r.stop_below, note);
+  }
+  fmt::print("output     {} ({:.0f} frames{})\n", output_dir, length.frames,
              c.output.global_interval > 0 ? fmt::format(", global.csv every {} s", c.output.global_interval)
                                           : ", global.csv every step");
   fmt::print("memory     about {:.1f} MB\n", static_cast<double>(m.bytes()) / 1e6);
@@ -63,10 +87,21 @@ void print_summary(const Model<D>& m, const std::string& output_dir) {
 
 template <int D>
 int check(const Config& c) {
+  check_output_paths(c, c.output.directory, checkpoint_path(c, c.output.directory));
   const Model<D> m = build_model<D>(c);
+  const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
+  check_run_length(c, next_time_step(c.time, dt_crit, 0, c.source));
   print_summary<D>(m, c.output.directory);
   fmt::print("input is valid\n");
   return exit_code::ok;
+}
+
+// "tsuchi run FILE -o DIR --set ...": how to continue this run, less "--restart CHECKPOINT".
+std::string resume_command(const Options& o) {
+  std::string r = "tsuchi run " + shell_word(o.file);
+  if (!o.output.empty()) r += " -o " + shell_word(o.output);
+  for (const auto& s : o.overrides) r += " --set " + shell_word(s);
+  return r;
 }
 
 template <int D>
@@ -74,6 +109,7 @@ int run(const Config& c, const Options& o) {
   Model<D> m = build_model<D>(c);
   if (!o.quiet) print_summary<D>(m, o.output.empty() ? c.output.directory : o.output);
   RunOptions ro;
+  ro.resume_command = resume_command(o);
   if (!o.output.empty()) ro.output_directory = o.output;
   if (!o.restart.empty()) {
     ro.restart = o.restart;
@@ -95,9 +131,26 @@ int run(const Config& c, const Options& o) {
   return exit_code::ok;
 }
 
+// The most threads a run takes: the bound of --threads, also applied to OMP_NUM_THREADS (libgomp
+// crashes when asked for 100,000).
+constexpr int max_threads = 1024;
+
+void clamp_environment_threads() {
+  const char* env = std::getenv("OMP_NUM_THREADS");
+  if (!env) return;
+  // A list ("8,4") gives the threads per nesting level; only the first level is used here.
+  char* end = nullptr;
+  errno = 0;
+  const long n = std::strtol(env, &end, 10);
+  if (end == env || (n <= max_threads && errno != ERANGE)) return;
+  fmt::print(stderr, "warning: OMP_NUM_THREADS={} is more than {} threads; using {}\n", env, max_threads, max_threads);
+  omp_set_num_threads(max_threads);
+}
+
 int dispatch(bool run_it, const Options& o) {
   if (o.threads > 0) omp_set_num_threads(o.threads);
   const Config c = read_config_file(o.file, o.overrides);
+  for (const auto& w : c.warnings) fmt::print(stderr, "warning: {}\n", w);
   if (c.dimension == 2) return run_it ? run<2>(c, o) : check<2>(c);
   return run_it ? run<3>(c, o) : check<3>(c);
 }
@@ -107,24 +160,34 @@ int dispatch(bool run_it, const Options& o) {
 int main(int argc, char** argv) {
   CLI::App app{"tsuchi: GIMP / MPM solver for large-deformation geomechanics"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("tsuchi ") + version);
+  app.footer(
+      "Every input key, its unit and default: docs/input.md (in the source tree).\n"
+      "Exit codes: 0 done (also when a recorder stops the run), 1 command line, 2 input, 3 run fault,\n"
+      "  4 output (also: another run holds the output directory), 5 internal error, 6 non-finite state,\n"
+      "  7 particle left the grid, 8 volume collapse, 9 time step above the stable limit,\n"
+      "  130 / 143 interrupted by SIGINT / SIGTERM after the state was saved.");
   Options o;
   auto* run_cmd = app.add_subcommand("run", "Run the model in an input file");
   run_cmd->add_option("file", o.file, "Input file (TOML)")->required();
   run_cmd->add_option("-o,--output", o.output, "Output directory (overrides output.directory)");
-  run_cmd->add_option("-s,--set", o.overrides, "Override an input key, e.g. --set time.end=0.5");
+  run_cmd->add_option("-s,--set", o.overrides, "Override an input key, e.g. --set time.end=0.5")
+      ->allow_extra_args(false);
   run_cmd->add_flag("-q,--quiet", o.quiet, "No summary or progress");
   run_cmd->add_option("-r,--restart", o.restart, "Continue from a checkpoint written by a run of the same input");
   run_cmd->add_option("-j,--threads", o.threads, "Threads (default: OMP_NUM_THREADS, else every core); results do not depend on it")
-      ->check(CLI::Range(1, 1024));
+      ->check(CLI::Range(1, max_threads));
   auto* check_cmd = app.add_subcommand("check", "Validate an input file and print the model summary");
   check_cmd->add_option("file", o.file, "Input file (TOML)")->required();
-  check_cmd->add_option("-s,--set", o.overrides, "Override an input key");
+  check_cmd->add_option("-s,--set", o.overrides, "Override an input key")
+      ->allow_extra_args(false);
   tsuchi::app::ElementOptions eo;
   auto* element_cmd =
       app.add_subcommand("element", "Drive one material point along a stress/strain path (a lab test) to CSV");
   element_cmd->add_option("file", eo.file, "Element-test input file (TOML)")->required();
   element_cmd->add_option("-o,--output", eo.output, "CSV file to write (default: FILE's name with .csv, here)");
-  element_cmd->add_option("-s,--set", eo.overrides, "Override an input key, e.g. --set test.confining_pressure=1e5");
+  element_cmd->add_option("-s,--set", eo.overrides, "Override an input key, e.g. --set test.confining_pressure=1e5")
+      ->allow_extra_args(false);
   element_cmd->add_flag("-q,--quiet", eo.quiet, "No summary, only the final lines");
 
   try {
@@ -132,6 +195,9 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? exit_code::ok : exit_code::usage;
   }
+  // Line by line: piped into one log, the summary (stdout) comes before the progress (stderr).
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);
+  clamp_environment_threads();
   // A full disk or a file-size limit should be an error message, not a silent kill.
   std::signal(SIGXFSZ, SIG_IGN);
   try {

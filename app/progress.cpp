@@ -19,10 +19,11 @@ ProgressReporter::ProgressReporter(std::FILE* out)
     : out_(out), tty_(::isatty(::fileno(out)) != 0), start_(std::chrono::steady_clock::now()), last_(start_) {}
 
 void ProgressReporter::update(const Progress& p) {
+  if (!started_) started_ = true, start_fraction_ = p.fraction, last_reported_fraction_ = p.fraction;
   latest_ = p;
   const auto now = std::chrono::steady_clock::now();
   const double since = std::chrono::duration<double>(now - last_).count();
-  const double fraction = p.end_time > 0 ? p.time / p.end_time : 1.0;
+  const double fraction = p.fraction;
   // A terminal is redrawn 5 times a second; a log gets a line every 10 % or every 30 s.
   const bool due = tty_ ? since > 0.2 : (fraction >= last_reported_fraction_ + 0.1 || since > 30.0);
   if (!due) return;
@@ -39,13 +40,19 @@ void ProgressReporter::finish(const Progress& p) {
 
 void ProgressReporter::print(const Progress& p, bool final) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  const double fraction = p.end_time > 0 ? std::clamp(p.time / p.end_time, 0.0, 1.0) : 1.0;
+  const double fraction = std::clamp(p.fraction, 0.0, 1.0);
   const double steps_per_s = wall > 0 ? static_cast<double>(p.step) / wall : 0.0;
-  const double eta = fraction > 0 ? wall * (1.0 - fraction) / fraction : -1.0;
-  const std::string status =
-      fmt::format("{:5.1f}% step {} t={:.4g}/{:.4g} s dt={:.3g} s {:.0f} steps/s {} {}", 100.0 * fraction, p.step,
-                  p.time, p.end_time, p.dt, steps_per_s, final ? "elapsed" : "ETA",
-                  clock_text(final ? wall : eta));
+  // Measured from this run's start: a restart's progress so far says nothing of its speed.
+  const double done = fraction - start_fraction_;
+  const double eta = done > 0 ? wall * (1.0 - fraction) / done : -1.0;
+  // When a recorder will stop the run before time.end, its value against its bound is the progress.
+  const std::string measure = p.leader.empty()
+                                  ? fmt::format("t={:.4g}/{:.4g} s", p.time, p.end_time)
+                                  : fmt::format("{}={:.4g}/{:.4g} t={:.4g} s", p.leader, p.leader_value,
+                                                p.leader_bound, p.time);
+  const std::string status = fmt::format("{:5.1f}% step {} {} dt={:.3g} s {:.0f} steps/s {} {}", 100.0 * fraction,
+                                         p.step, measure, p.dt, steps_per_s, final ? "elapsed" : "ETA",
+                                         clock_text(final ? wall : eta));
   if (tty_) {
     constexpr int width = 24;
     const int filled = static_cast<int>(fraction * width);

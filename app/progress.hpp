@@ -21,6 +21,8 @@ class ProgressReporter {
   bool tty_;
   std::chrono::steady_clock::time_point start_, last_;
   double last_reported_fraction_ = 0.0;
+  bool started_ = false;
+  double start_fraction_ = 0.0;  // where the run was at its first step (a restart starts on the way)
   Progress latest_;
 };
 

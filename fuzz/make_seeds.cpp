@@ -1,6 +1,6 @@
 // Writes the seed corpora of the fuzz targets:
 //   CHECKPOINT_DIR: real checkpoints of the two fuzz models (fuzz_models.hpp), one of the initial
-//                   state and one after three steps of a run (with its frames and CSV history);
+//                   state and one after three steps of a run (with its frames and CSV lengths);
 //   INPUT_DIR:      the two fuzz models' input files, one of them with command-line overrides
 //                   in the form input_reader_fuzz.cpp reads them.
 // The examples' input files are further seeds of the input reader (copied by fuzz/CMakeLists.txt).

@@ -234,6 +234,21 @@ stress = { xx = "hold", zz = "hold" }
 
 TEST(ElementInput, RefusesBadPaths) {
   ASSERT_NO_THROW(read(kGeneral));
+  // A friction angle in radians by mistake is warned about, not refused (issue 13).
+  const io::ElementInput slip = read(replace(kGeneral, "friction_angle = 30.5", "friction_angle = 0.53"));
+  ASSERT_EQ(slip.warnings.size(), 1u);
+  expect_message(slip.warnings[0], {"element.toml:", "key 'materials.0.friction_angle'", "0.53 degrees is below 1 degree"});
+  // A title with a line break broke the CSV header (issue 13).
+  expect_message(input_error("title = \"a\\nb\"\n" + kGeneral),
+                 {"element.toml:1:9: key 'title'", "expected a title on one line"});
+  // An empty array of segments was accepted as a path of no increment (issue 13).
+  try {
+    io::read_element_string(kGeneral, "element.toml", {"test.segments=[]"});
+    ADD_FAILURE() << "segments = [] accepted";
+  } catch (const InputError& e) {
+    expect_message(e.what(), {"element.toml: (command-line override): key 'test.segments'",
+                              "at least one [[test.segments]] table, got an empty array"});
+  }
   expect_message(input_error(replace(kGeneral, "yy = -0.1,", "yy = -0.1, xx = 0.0,")),
                  {"element.toml:", "key 'test.segments.0.stress.xx'", "controlled twice", "test.segments.0.strain"});
   expect_message(input_error(replace(kGeneral, ", xz = 0.0 }", " }")),

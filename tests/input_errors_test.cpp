@@ -2,6 +2,7 @@
 // the line (where there is one), the key and what was expected; and the `tsuchi` program maps the
 // error kinds to exit codes (2 input, 3 run fault) without leaving broken output behind.
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/core/version.hpp"
 #include "tsuchi/io/config_reader.hpp"
 
 #include "test_support.hpp"
@@ -444,6 +445,149 @@ frames = false
   // No temporary file left behind.
   for (const auto& e : fs::directory_iterator(outdir))
     EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos) << e.path();
+}
+
+// OMP_NUM_THREADS=100000 crashed libgomp (exit 139); it is held to 1024, the bound of --threads,
+// with a warning (issue 13).
+TEST(ProgramErrors, HugeThreadCountFromTheEnvironmentIsClamped) {
+  TempDir tmp("tsuchi_input_errors");
+  write_file(tmp.path / "good.toml", kValid);
+  const std::string cmd = "OMP_NUM_THREADS=100000 '" + std::string(TSUCHI_BINARY) + "' check " + quoted(tmp.path / "good.toml") + " 2>&1";
+  std::FILE* p = ::popen(cmd.c_str(), "r");
+  ASSERT_NE(p, nullptr);
+  std::string out;
+  char buf[4096];
+  for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+  const int st = ::pclose(p);
+  ASSERT_TRUE(WIFEXITED(st)) << out;
+  EXPECT_EQ(WEXITSTATUS(st), tsuchi::exit_code::ok) << out;
+  expect_message(out, {"warning: OMP_NUM_THREADS=100000 is more than 1024 threads; using 1024", "threads    1024",
+                       "input is valid"});
+}
+
+// Piped into one log, the model summary (stdout) comes before the progress lines (stderr); it
+// came after them, at exit, when stdout was fully buffered (issue 13).
+TEST(ProgramErrors, SummaryComesBeforeProgressInALog) {
+  TempDir tmp("tsuchi_input_errors");
+  write_file(tmp.path / "good.toml", replace(kValid, "directory = \"out\"", "directory = \"" + (tmp.path / "out").string() + "\""));
+  const ProgramResult r = run_program("run " + quoted(tmp.path / "good.toml"));
+  ASSERT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  const auto summary = r.output.find("particles  "), progress = r.output.find("% step "), done = r.output.find("done: ");
+  ASSERT_NE(progress, std::string::npos) << r.output;
+  EXPECT_LT(summary, progress) << r.output;
+  EXPECT_LT(progress, done) << r.output;
+}
+
+// Anything but a regular file is refused before it is read: /dev/zero was read without limit until
+// the OOM killer came (2.2 GB, then 23 GB), a directory said "missing key 'model'"; an input file
+// above 16 MB is refused by its size (issue 13).
+TEST(ProgramErrors, InputMustBeARegularFileOfSensibleSize) {
+  TempDir tmp("tsuchi_input_errors");
+  ProgramResult r = run_program("check /dev/zero");
+  EXPECT_EQ(r.status, tsuchi::exit_code::input) << r.output;
+  expect_message(r.output, {"/dev/zero: cannot read the input file: it is a device, pipe or socket, not a regular file"});
+  r = run_program("check " + quoted(tmp.path));
+  EXPECT_EQ(r.status, tsuchi::exit_code::input) << r.output;
+  expect_message(r.output, {tmp.path.string() + ": cannot read the input file: it is a directory, not a regular file"});
+  write_file(tmp.path / "huge.toml", kValid + std::string(17u << 20, '#'));
+  r = run_program("check " + quoted(tmp.path / "huge.toml"));
+  EXPECT_EQ(r.status, tsuchi::exit_code::input) << r.output;
+  expect_message(r.output, {"huge.toml: the input file is 17826", "input files above 16 MB are refused"});
+  // A checkpoint that is a device is refused by its type, before any byte is read.
+  write_file(tmp.path / "good.toml", kValid);
+  r = run_program("run -q " + quoted(tmp.path / "good.toml") + " -o " + quoted(tmp.path / "out") + " --restart /dev/zero");
+  EXPECT_EQ(r.status, tsuchi::exit_code::input) << r.output;
+  expect_message(r.output, {"/dev/zero: not a usable checkpoint: it is not a regular file"});
+  EXPECT_FALSE(fs::exists(tmp.path / "out"));
+}
+
+// The step estimate of `check` counts the steps that land on frame times: with dt = 4e-4 s and a
+// frame every 1e-3 s (2.5 steps), each interval takes 3 steps, 150 in all to 0.05 s, which the
+// run takes exactly; `check` said 125 (end / dt) before (issue 13).
+TEST(ProgramErrors, StepEstimateCountsFrameTimes) {
+  TempDir tmp("tsuchi_input_errors");
+  std::string text = replace(kValid, "courant = 0.5", "dt = 4e-4");
+  text = replace(text, "end = 0.01", "end = 0.05");
+  text = replace(text, "directory = \"out\"", "interval = 1e-3\nframes = false\ndirectory = \"" + (tmp.path / "out").string() + "\"");
+  write_file(tmp.path / "m.toml", text);
+  ProgramResult r = run_program("check " + quoted(tmp.path / "m.toml"));
+  ASSERT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {"steps      about 150 to t = 0.05 s"});
+  r = run_program("run -q " + quoted(tmp.path / "m.toml"));
+  ASSERT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {"done: 150 steps to t = 0.05 s"});
+}
+
+// Text the input gives that was silently cut or printed raw (issue 13): a --set value with a line
+// break (toml++ read the second line as another key, which was dropped), a 1 MB key printed whole.
+TEST(InputErrors, OverrideWithALineBreakIsRefused) {
+  const std::string msg = input_error(kValid, {"time.end=0.5\ngrid.cell_size=0.2"});
+  expect_message(msg, {"case.toml: override 'time.end=0.5\\u{000A}grid.cell_size=0.2'",
+                       "expected key=value on one line, got a line break in the value"});
+}
+
+TEST(InputErrors, HugeKeyIsCutInTheMessage) {
+  const std::string key(1u << 20, 'k');
+  const std::string msg = input_error(kValid, {"grid." + key + "=1"});
+  expect_message(msg, {"unknown key 'grid.kkkk", "... (1048576 bytes in all)'"});
+  EXPECT_LT(msg.size(), 400u) << msg.substr(0, 400);
+}
+
+// `run --set k=v FILE`: the option took FILE as a second value and said "file is required".
+TEST(ProgramErrors, SetBeforeTheFile) {
+  TempDir tmp("tsuchi_input_errors");
+  write_file(tmp.path / "good.toml", kValid);
+  const ProgramResult r = run_program("check -s time.end=0.02 --set grid.cell_size=0.05 " + quoted(tmp.path / "good.toml"));
+  EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {"grid       20 x 10 cells of 0.05 m", "to t = 0.02 s", "input is valid"});
+}
+
+// An output directory that is a dangling symbolic link said "File exists".
+TEST(ProgramErrors, DanglingOutputLinkIsNamed) {
+  TempDir tmp("tsuchi_input_errors");
+  write_file(tmp.path / "good.toml", kValid);
+  fs::create_symlink(tmp.path / "gone", tmp.path / "link");
+  const ProgramResult r = run_program("run -q " + quoted(tmp.path / "good.toml") + " -o " + quoted(tmp.path / "link"));
+  EXPECT_EQ(r.status, tsuchi::exit_code::output) << r.output;
+  expect_message(r.output, {"cannot create the output directory " + (tmp.path / "link").string() +
+                                ": it is a symbolic link to " + (tmp.path / "gone").string() + ", which does not exist"});
+}
+
+// A friction angle of 0.35 (radians by mistake) or a modulus in MPa was taken silently; now a
+// warning names the key and the likely slip, and the input is still accepted (issue 13).
+TEST(InputValid, UnitSlipsAreWarnedAbout) {
+  std::string text = replace(kValid, "model = \"linear_elastic\"", "model = \"mohr_coulomb\"\ncohesion = 1e3\nfriction_angle = 0.35");
+  text = replace(text, "youngs_modulus = 1.0e7", "youngs_modulus = 10.0");
+  const tsuchi::Config c = read_config_string(text, "case.toml");
+  ASSERT_EQ(c.warnings.size(), 2u);
+  expect_message(c.warnings[0], {at_line(line_of(text, "youngs_modulus")), "key 'materials.0.youngs_modulus'",
+                                 "10 Pa is below 1 kPa; moduli are in Pa (for 10 MPa write 1e+07)"});
+  expect_message(c.warnings[1], {at_line(line_of(text, "friction_angle")), "key 'materials.0.friction_angle'",
+                                 "0.35 degrees is below 1 degree", "0.35 radians would be 20.05 degrees"});
+  EXPECT_TRUE(read_config_string(kValid, "case.toml").warnings.empty());
+  TempDir tmp("tsuchi_input_errors");
+  write_file(tmp.path / "slip.toml", text);
+  const ProgramResult r = run_program("check " + quoted(tmp.path / "slip.toml"));
+  EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {"warning: " + (tmp.path / "slip.toml").string() + ":", "0.35 degrees", "input is valid"});
+}
+
+// --version, --help pointing to docs/input.md with the exit codes, the version and the materials
+// in the summary (issue 13).
+TEST(ProgramErrors, VersionHelpAndMaterialSummary) {
+  ProgramResult r = run_program("--version");
+  EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  EXPECT_EQ(r.output, std::string("tsuchi ") + tsuchi::version + "\n");
+  r = run_program("--help");
+  EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {"docs/input.md", "Exit codes: 0 done", "2 input", "4 output", "9 time step above the stable limit",
+                            "130 / 143 interrupted"});
+  TempDir tmp("tsuchi_input_errors");
+  write_file(tmp.path / "good.toml", kValid);
+  r = run_program("check " + quoted(tmp.path / "good.toml"));
+  EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
+  expect_message(r.output, {std::string("tsuchi     ") + tsuchi::version,
+                            "material   \"soil\": linear_elastic, density 2000 kg/m^3, G = 3.84615e+06 Pa, nu = 0.3"});
 }
 
 }  // namespace

@@ -2,7 +2,8 @@
 """Kills at random moments (issue 6): a run killed with SIGKILL at any moment leaves only complete
 files (every .vtu parses with all its data, the .pvd lists only such frames, every CSV row is whole);
 restarted from its latest checkpoint after each kill, it ends bitwise identical to a run never
-interrupted. SIGTERM saves the state, exits with 128 + 15, and the restart also ends identical.
+interrupted. SIGTERM saves the state, exits with 128 + 15, and the restart also ends identical;
+so does SIGTERM sent twice 10 ms apart (issue 13; TSUCHI_TWICE_REPEATS times, default 4).
 
 usage: kill_test.py TSUCHI_BINARY
 """
@@ -189,12 +190,41 @@ def main():
         p.send_signal(signal.SIGTERM)
         out, _ = p.communicate()
         check(p.returncode == 128 + signal.SIGTERM, f"SIGTERM gave exit code {p.returncode}: {out}")
-        check("continue with --restart" in out, f"the message does not say how to continue: {out}")
+        check(f"continue with tsuchi run {inp} -o {d} --restart {os.path.join(d, 'checkpoint.tsuchi')}" in out,
+              f"the message does not say how to continue: {out}")
         check_directory(d, "after SIGTERM")
         p = run(binary, inp, d, "--restart", os.path.join(d, "checkpoint.tsuchi"))
         out, _ = p.communicate()
         check(p.returncode == 0, f"restart after SIGTERM failed: {out}")
         same_files(ref, d, "after SIGTERM")
+
+        # SIGTERM twice, 10 ms apart (as `timeout` and batch schedulers do), at random moments: the
+        # second signal must not cut the save short. Every time the exit code is 143, a complete
+        # checkpoint is left, and the restart ends byte-identical to the uninterrupted run.
+        d = os.path.join(tmp, "twice")
+        ck = os.path.join(d, "checkpoint.tsuchi")
+        repeats, interrupted = int(os.environ.get("TSUCHI_TWICE_REPEATS", "4")), 0
+        for attempt in range(repeats):
+            shutil.rmtree(d, ignore_errors=True)
+            p = run(binary, inp, d)
+            time.sleep(rng.uniform(0.05, 0.8 * duration))
+            p.send_signal(signal.SIGTERM)
+            time.sleep(0.01)
+            p.send_signal(signal.SIGTERM)
+            out, _ = p.communicate()
+            if p.returncode == 0:
+                continue  # ended before the signals
+            interrupted += 1
+            check(p.returncode == 128 + signal.SIGTERM, f"SIGTERM twice: exit code {p.returncode}: {out}")
+            check(f"continue with tsuchi run {inp} -o {d} --restart {ck}" in out,
+                  f"SIGTERM twice: the message does not say how to continue: {out}")
+            check_directory(d, f"after SIGTERM twice ({attempt})")
+            p = run(binary, inp, d, "--restart", ck)
+            out, _ = p.communicate()
+            check(p.returncode == 0, f"restart after SIGTERM twice failed: {out}")
+            same_files(ref, d, f"after SIGTERM twice ({attempt})")
+        print(f"SIGTERM twice: {interrupted} of {repeats} runs interrupted, each saved and restarted bitwise")
+        check(interrupted >= repeats // 2, f"only {interrupted} of {repeats} runs were still running at the signals")
 
         # A full disk, played by a file-size limit that the frames fit under and the checkpoint does not.
         d = os.path.join(tmp, "full")

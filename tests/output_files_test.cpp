@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -94,7 +95,28 @@ TEST(Output, RunWritesCompleteFramesSeriesAndCsv) {
     EXPECT_EQ(v.arrays.at("id").second.size(), v.points * sizeof(std::int32_t));
   }
   // The last frame holds the final state bit for bit.
-  const Vtu last = parse_vtu(slurp(dir / files.back()));
+  const std::string last_doc = slurp(dir / files.back());
+  const Vtu last = parse_vtu(last_doc);
+  // What a ParaView user needs first (issue 13): the particle size for Point Gaussian, p and q per
+  // particle, and max_shear_strain as the active scalar.
+  EXPECT_NE(last_doc.find("<PointData Scalars=\"max_shear_strain\">"), std::string::npos);
+  EXPECT_NE(last_doc.find("<!-- written by tsuchi 0."), std::string::npos);
+  EXPECT_NE(pvd.find("<!-- written by tsuchi 0."), std::string::npos);
+  for (std::size_t i = 0; i < m.particles.size(); ++i) {
+    const auto value = [&](const char* name) {
+      double v = 0;
+      std::memcpy(&v, last.arrays.at(name).second.data() + i * sizeof(double), sizeof(double));
+      return v;
+    };
+    const auto& sg = m.particles.sigma_p[i];
+    const double p = (sg[0] + sg[1] + sg[2]) / 3.0;
+    const double q = std::sqrt(0.5 * ((sg[0] - sg[1]) * (sg[0] - sg[1]) + (sg[1] - sg[2]) * (sg[1] - sg[2]) +
+                                      (sg[2] - sg[0]) * (sg[2] - sg[0])) + 3.0 * sg[3] * sg[3]);
+    ASSERT_NEAR(value("mean_stress"), p, 1e-12 * (std::abs(p) + q + 1.0)) << "particle " << i;
+    ASSERT_NEAR(value("deviator_stress"), q, 1e-9 * (std::abs(p) + q + 1.0)) << "particle " << i;
+    ASSERT_EQ(value("radius"), 0.5 * (m.particles.l_p[i][0] + m.particles.l_p[i][1])) << "particle " << i;
+    ASSERT_GT(value("radius"), 0.0);
+  }
   const std::string& vel = last.arrays.at("velocity").second;
   for (std::size_t i = 0; i < m.particles.size(); ++i) {
     double vx = 0;

@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -104,6 +106,88 @@ TEST(Recorders, StopBoundEndsTheRunAtTheFirstCrossing) {
   EXPECT_GE(last, 5.0);
   EXPECT_LT(before, 5.0);
   EXPECT_NEAR(s.time, 0.05, 2e-3);
+}
+
+// A run a recorder stops at t = 0.05 s of time.end = 1 s: the progress (and so the ETA) follows the
+// recorder's way to its bound, not the time, which would say 5 % at the end (issue 13).
+TEST(Recorders, ProgressFollowsTheRecorderThatStopsTheRun) {
+  Config c = config();
+  Model<2> m = build_model<2>(c);
+  const Recorder<2> drift(c.recorders[0], m);
+  RunOptions o = no_output();
+  std::vector<Progress> seen;
+  o.on_progress = [&](const Progress& p) {
+    seen.push_back(p);
+    const double expected = std::min(1.0, drift.value(m.particles) / 5.0);
+    ASSERT_NEAR(p.fraction, expected, 1e-12) << "step " << p.step;
+    ASSERT_EQ(p.leader, "drift");
+    ASSERT_EQ(p.leader_bound, 5.0);
+    ASSERT_GT(p.fraction, 10.0 * p.time / p.end_time) << "the time would say about 5 % of this";
+  };
+  const RunSummary s = run_simulation<2>(m, o);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.back().fraction, 1.0);
+  EXPECT_EQ(seen.back().step, s.steps);
+  // The program's progress lines say the same: the last one 100 % with the recorder's value.
+  TempDir tmp("tsuchi_recorders");
+  write_file(tmp.path / "moving.toml", kMoving);
+  const ProgramResult r = run_program("run " + quoted(tmp.path / "moving.toml") + " -o " + quoted(tmp.path / "out"));
+  ASSERT_EQ(r.status, exit_code::ok) << r.output;
+  expect_message(r.output, {"% step ", " drift=", "/5 t=", "100.0% step " + std::to_string(s.steps) + " drift=5"});
+}
+
+// A recorder as the frame label, and frames by its value (issue 13): every 1 cm of drift of a block
+// moving at 1 m/s. The .pvd's timestep is the drift, each frame written after the step that
+// passes the next whole centimetre (about 0.01 cm per step).
+TEST(Recorders, FramesLabelledAndScheduledByARecorder) {
+  TempDir tmp("tsuchi_recorders");
+  Model<2> m = build_model<2>(config({"time.end=0.035", "output.frames=true", "output.frame_label=\"drift\"",
+                                      "output.label_interval=1.0", "output.fields=[\"id\"]"}));
+  RunOptions o;
+  o.output_directory = (tmp.path / "out").string();
+  const RunSummary s = run_simulation<2>(m, o);
+  std::ifstream in(tmp.path / "out" / "particles.pvd");
+  const std::string pvd{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  std::vector<double> labels;
+  const std::string key = "timestep=\"";
+  for (auto at = pvd.find(key); at != std::string::npos; at = pvd.find(key, at + 1))
+    labels.push_back(std::stod(pvd.substr(at + key.size())));
+  ASSERT_EQ(labels.size(), 5u) << pvd;  // t = 0, drift 1, 2, 3 cm, and the end (3.5 cm)
+  EXPECT_EQ(s.frames, 5u);
+  EXPECT_EQ(labels[0], 0.0);
+  for (int k = 1; k <= 3; ++k) {
+    EXPECT_GE(labels[static_cast<std::size_t>(k)], k) << pvd;
+    EXPECT_LT(labels[static_cast<std::size_t>(k)], k + 0.02) << pvd;
+  }
+  EXPECT_NEAR(labels[4], 3.5, 0.02) << pvd;
+  // The label must name a recorder.
+  try {
+    config({"output.frame_label=\"strain\""});
+    ADD_FAILURE() << "an unknown frame_label was accepted";
+  } catch (const InputError& e) {
+    expect_message(e.what(), {"key 'output.frame_label'", "expected the name of a recorder (\"drift\", \"bottom_row_y\", \"mass\"), got \"strain\""});
+  }
+}
+
+// `check`'s step estimate ignored the stop bounds (issue 13). A recorder of a platen's displacement
+// (prescribed velocity) changes at a known rate: 100 * 1 m/s * t reaches 5 at t = 0.05 s, so the
+// estimate goes to 0.05 s and not to time.end; and a time.end of 1e6 s is no longer refused as
+// 1e10 steps when the platen stops the run after 500.
+TEST(Recorders, CheckForeseesThePlatenStop) {
+  const Config c = config({"bodies.0.prescribed_velocity={x=1.0}", "time.end=1e6"});
+  const auto stop = forecast_stop(c);
+  ASSERT_TRUE(stop.has_value());
+  EXPECT_EQ(stop->recorder, "drift");
+  EXPECT_NEAR(stop->time, 0.05, 1e-15);
+  EXPECT_NO_THROW(check_run_length(c, 1e-4));
+  EXPECT_THROW(check_run_length(config({"time.end=1e6"}), 1e-4), InputError);  // free flight: not foreseeable
+  EXPECT_FALSE(forecast_stop(config()).has_value());
+  TempDir tmp("tsuchi_recorders");
+  write_file(tmp.path / "moving.toml", kMoving);
+  const ProgramResult r = run_program("check " + quoted(tmp.path / "moving.toml") +
+                                      " --set 'bodies.0.prescribed_velocity={x=1.0}' --set time.end=1e6");
+  ASSERT_EQ(r.status, exit_code::ok) << r.output;
+  expect_message(r.output, {"to t = 0.05 s, where drift reaches 5 and stops the run (time.end = 1000000 s)"});
 }
 
 TEST(Recorders, BadInputNamesTheKey) {

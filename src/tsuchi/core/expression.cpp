@@ -4,6 +4,7 @@
 
 #include <numbers>
 #include <stdexcept>
+#include <string_view>
 
 namespace tsuchi {
 
@@ -19,8 +20,16 @@ Expression::Expression(const std::string& formula) : impl_(std::make_unique<Impl
     impl_->parser.DefineVar("y", &impl_->y);
     impl_->parser.DefineVar("z", &impl_->z);
     impl_->parser.DefineConst("pi", std::numbers::pi);
+    // muparser takes "x = 5" as an assignment to x and "1, 2" as two results (of which Eval gives
+    // the last): neither is a formula of x, y, z giving one value.
+    for (std::size_t i = 0; i < formula.size(); ++i)
+      if (formula[i] == '=' && (i + 1 >= formula.size() || formula[i + 1] != '=') &&
+          (i == 0 || std::string_view("=<>!").find(formula[i - 1]) == std::string_view::npos))
+        throw std::invalid_argument("an assignment ('=') is not a formula; write the value itself, e.g. \"0.1 * x\"");
     impl_->parser.SetExpr(formula);
     impl_->parser.Eval();  // parses now, so a bad formula fails at input time
+    if (impl_->parser.GetNumResults() != 1)
+      throw std::invalid_argument("it gives several values separated by ','; a formula gives one value");
   } catch (const mu::Parser::exception_type& e) {
     throw std::invalid_argument(e.GetMsg());
   }

@@ -1,24 +1,49 @@
 #include "tsuchi/core/interrupt.hpp"
 
 #include <csignal>
+#include <unistd.h>
 
 namespace tsuchi {
 
 namespace {
-volatile std::sig_atomic_t received = 0;
+volatile std::sig_atomic_t received = 0;  // the first signal
+volatile std::sig_atomic_t count = 0;     // signals so far
+volatile std::sig_atomic_t saved = 0;     // the checkpoint after the first signal is complete
 
-extern "C" void on_signal(int s) { received = s; }
+void say(const char* text) {
+  std::size_t n = 0;
+  while (text[n] != '\0') ++n;
+  [[maybe_unused]] const auto written = ::write(STDERR_FILENO, text, n);
+}
+
+extern "C" void on_signal(int s) {
+  if (received == 0) received = s;
+  count = count + 1;
+  if (saved) {
+    say("\ninterrupted again: the state was saved; stopping now\n");
+    ::_exit(128 + s);
+  }
+  if (count >= 3) {
+    say("\ninterrupted a third time before the state was saved: stopping now, without a checkpoint\n");
+    std::signal(s, SIG_DFL);
+    ::raise(s);
+  }
+}
 }  // namespace
 
 void install_interrupt_handlers() {
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
-  sa.sa_flags = SA_RESETHAND;  // the second signal takes the default action: exit now
+  sigaddset(&sa.sa_mask, SIGINT);  // one handler at a time: the count stays exact
+  sigaddset(&sa.sa_mask, SIGTERM);
+  sa.sa_flags = SA_RESTART;  // a write in progress goes on rather than failing with EINTR
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
 }
 
 int pending_interrupt() { return received; }
+
+void interrupt_saved() { saved = 1; }
 
 }  // namespace tsuchi

@@ -1,12 +1,16 @@
 #pragma once
 // SIGINT / SIGTERM as a request to stop: the handler only records the signal, and the time loop
-// looks at it between steps, where the state is whole and can be saved. A second signal of the
-// same kind kills the program at once (the handler is reset after the first), for a user who does
-// not want to wait for the save.
+// looks at it between steps, where the state is whole and can be saved. `timeout` and batch
+// schedulers often signal twice in quick succession, so a second signal while the state is not
+// yet saved is only counted: the save goes on. Once the checkpoint is complete (interrupt_saved())
+// any further signal exits at once with 128 + the signal, as the state is safe; a third signal
+// before that ends the program at once by the signal itself, without a checkpoint.
 namespace tsuchi {
 
 void install_interrupt_handlers();
-// The signal received since the handlers were installed, or 0.
+// The first signal received since the handlers were installed, or 0.
 int pending_interrupt();
+// The checkpoint of an interrupted run is complete: from now on a signal exits at once.
+void interrupt_saved();
 
 }  // namespace tsuchi

@@ -21,7 +21,8 @@ std::string format_csv(const std::vector<ElementRow>& rows, const std::vector<st
   out +=
       "# eps_*, sig_*: tension positive, sig_* in Pa; eps_xy, eps_yz, eps_xz are tensor components (engineering "
       "gamma = 2 eps)\n"
-      "# p = -(sig_xx + sig_yy + sig_zz)/3 (Pa) and eps_v = -(eps_xx + eps_yy + eps_zz): compression positive\n"
+      "# p = -(sig_xx + sig_yy + sig_zz)/3 (Pa) and eps_v = -(eps_xx + eps_yy + eps_zz): compression positive "
+      "(p = -mean_stress of a run's frames and recorders, which are tension positive)\n"
       "# q = sqrt(3 J2) (Pa); deviator = largest - smallest principal stress (Pa); gamma_max = largest - smallest "
       "principal strain\n"
       "# yield_mode of the increment: 0 elastic, 1 shear, 2 tension; plastic_shear_strain = accumulated eps1_p - "

@@ -124,9 +124,8 @@ struct Grid {
     fixed_g.assign(n, 0);
   }
 
-  std::size_t bytes() const {
-    return size() * (sizeof(double) + 5 * sizeof(Vec<D>) + sizeof(std::uint8_t));
-  }
+  static constexpr std::size_t bytes_per_slot() { return sizeof(double) + 5 * sizeof(Vec<D>) + sizeof(std::uint8_t); }
+  std::size_t bytes() const { return size() * bytes_per_slot(); }
 };
 
 }  // namespace tsuchi

@@ -53,6 +53,10 @@ void write_file_atomically(const std::string& path, std::string_view contents) {
 
 void prepare_output_directory(const std::string& dir) {
   std::error_code ec;
+  if (fs::is_symlink(fs::symlink_status(dir, ec)) && !fs::exists(dir, ec))
+    throw OutputError(fmt::format("cannot create the output directory {}: it is a symbolic link to {}, which does not "
+                                  "exist; create that directory or remove the link",
+                                  dir, fs::read_symlink(dir, ec).string()));
   fs::create_directories(dir, ec);
   if (ec) throw OutputError(fmt::format("cannot create the output directory {}: {}", dir, ec.message()));
   if (::access(dir.c_str(), W_OK) != 0)
@@ -65,6 +69,19 @@ void prepare_output_directory(const std::string& dir) {
     const long pid = std::strtol(name.c_str() + at + 5, nullptr, 10);
     if (pid > 0 && (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH)) fs::remove(entry.path(), ec);
   }
+}
+
+void prepare_checkpoint_directory(const std::string& checkpoint_file) {
+  fs::path dir = fs::path(checkpoint_file).parent_path();
+  if (dir.empty()) dir = ".";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec)
+    throw OutputError(fmt::format("cannot create the directory {} of the checkpoint file {}: {}", dir.string(),
+                                  checkpoint_file, ec.message()));
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw OutputError(fmt::format("the directory {} of the checkpoint file {} is not writable: {}", dir.string(),
+                                  checkpoint_file, std::strerror(errno)));
 }
 
 }  // namespace tsuchi

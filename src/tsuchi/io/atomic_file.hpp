@@ -13,4 +13,8 @@ void write_file_atomically(const std::string& path, std::string_view contents);
 // Creates the directory (and parents) if needed; throws OutputError if it cannot be written to.
 void prepare_output_directory(const std::string& dir);
 
+// Creates the directory a checkpoint file goes into (when missing) and checks that it can be
+// written to; throws OutputError.
+void prepare_checkpoint_directory(const std::string& checkpoint_file);
+
 }  // namespace tsuchi

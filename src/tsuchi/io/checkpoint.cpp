@@ -1,13 +1,18 @@
 #include "tsuchi/io/checkpoint.hpp"
 
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/appended_file.hpp"
 #include "tsuchi/io/atomic_file.hpp"
 #include "tsuchi/io/toml_section.hpp"
 
 #include <fmt/format.h>
-#include <zlib.h>
+
+#include <sys/stat.h>
 
 #include <bit>
+#include <cerrno>
+#include <cstdio>
+#include <memory>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -22,16 +27,7 @@ namespace {
 constexpr char magic[8] = {'T', 'S', 'U', 'C', 'H', 'I', 'C', 'K'};
 constexpr std::size_t header_size = 8 + 4 + 4 + 8 + 8;  // magic, version, dimension, fingerprint, particles
 
-std::uint32_t crc32_of(std::string_view bytes) {
-  uLong crc = crc32(0L, Z_NULL, 0);
-  // zlib takes lengths as uInt: feed large files in pieces.
-  for (std::size_t at = 0; at < bytes.size();) {
-    const std::size_t n = std::min<std::size_t>(bytes.size() - at, 1u << 30);
-    crc = crc32(crc, reinterpret_cast<const Bytef*>(bytes.data() + at), static_cast<uInt>(n));
-    at += n;
-  }
-  return static_cast<std::uint32_t>(crc);
-}
+std::uint32_t crc32_of(std::string_view bytes) { return crc32_update(0, bytes); }
 
 // Numbers, or fixed-size Eigen vectors that are nothing but their coefficients: safe to copy as
 // bytes (Eigen's types are not formally trivially copyable).
@@ -190,11 +186,14 @@ void write_checkpoint(const std::string& path, const Model<D>& model, const RunP
   e.scalar("dt", r.dt);
   e.scalar("frame_index", r.frame_index);
   e.scalar("row_index", r.row_index);
+  e.scalar("label_index", r.label_index);
   e.scalar("last_frame", r.last_frame);
   e.scalar("last_row", r.last_row);
   model.particles.for_each_array([&](const char* name, const auto& a) { e.array(fmt::format("p.{}", name), a); });
-  e.text("global_csv", r.output.global_csv);
-  e.text("recorder_csv", r.output.recorder_csv);
+  e.scalar("global_csv_bytes", r.output.global_bytes);
+  e.scalar("global_csv_crc", r.output.global_crc);
+  e.scalar("recorder_csv_bytes", r.output.recorder_bytes);
+  e.scalar("recorder_csv_crc", r.output.recorder_crc);
   std::vector<double> frame_times;
   std::string frame_names;  // newline-separated
   for (const auto& [t, name] : r.output.frames) frame_times.push_back(t), frame_names += name + '\n';
@@ -241,16 +240,19 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
   r.dt = in.scalar<double>("dt");
   r.frame_index = in.scalar<std::int64_t>("frame_index");
   r.row_index = in.scalar<std::int64_t>("row_index");
+  r.label_index = in.scalar<std::int64_t>("label_index");
   r.last_frame = in.scalar<double>("last_frame");
   r.last_row = in.scalar<double>("last_row");
   if (!std::isfinite(r.time) || r.time < 0.0 || r.steps < 0 || !std::isfinite(r.dt) || r.dt < 0.0 ||
-      r.frame_index < 1 || r.row_index < 1 || !std::isfinite(r.last_frame) || !std::isfinite(r.last_row))
+      r.frame_index < 1 || r.row_index < 1 || r.label_index < 0 || !std::isfinite(r.last_frame) || !std::isfinite(r.last_row))
     in.fail("the time or the output counters are out of range");
   Particles<D> p;
   p.for_each_array([&](const char* name, auto& a) { in.array(fmt::format("p.{}", name), a, static_cast<std::size_t>(count)); });
   check_particles(p, model, in);
-  r.output.global_csv = in.text("global_csv");
-  r.output.recorder_csv = in.text("recorder_csv");
+  r.output.global_bytes = in.scalar<std::uint64_t>("global_csv_bytes");
+  r.output.global_crc = in.scalar<std::uint32_t>("global_csv_crc");
+  r.output.recorder_bytes = in.scalar<std::uint64_t>("recorder_csv_bytes");
+  r.output.recorder_crc = in.scalar<std::uint32_t>("recorder_csv_crc");
   std::vector<double> times;
   const std::string_view names_all = in.section("frame_names");
   const std::size_t nframes = static_cast<std::size_t>(std::count(names_all.begin(), names_all.end(), '\n'));
@@ -271,12 +273,33 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
 
 template <int D>
 RunProgress read_checkpoint(const std::string& path, Model<D>& model) {
-  std::string bytes;
-  try {
-    bytes = io::read_input_file(path);
-  } catch (const InputError&) {
-    throw InputError(fmt::format("{}: cannot open the checkpoint", path));
-  }
+  // The header first: a device, a pipe or a huge foreign file must not be read into memory.
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) throw InputError(fmt::format("{}: cannot open the checkpoint: {}", path, std::strerror(errno)));
+  const std::unique_ptr<std::FILE, int (*)(std::FILE*)> closer(f, &std::fclose);
+  struct stat st {};
+  if (::fstat(::fileno(f), &st) != 0 || !S_ISREG(st.st_mode))
+    refuse(path, "it is not a regular file (a directory, device or pipe)");
+  std::string bytes(header_size, '\0');
+  if (std::fread(bytes.data(), 1, header_size, f) != header_size || std::memcmp(bytes.data(), magic, sizeof magic) != 0)
+    refuse(path, "it does not start like a tsuchi checkpoint");
+  std::uint32_t version = 0, dim = 0;
+  std::uint64_t count = 0;
+  std::memcpy(&version, bytes.data() + 8, 4);
+  std::memcpy(&dim, bytes.data() + 12, 4);
+  std::memcpy(&count, bytes.data() + 24, 8);
+  if (version != checkpoint_version)
+    refuse(path, fmt::format("it has format version {}, this program reads version {}", version, checkpoint_version));
+  if (dim != static_cast<std::uint32_t>(D)) refuse(path, fmt::format("it holds a {}D model, the input is {}D", dim, D));
+  if (count != model.particles.size())
+    refuse(path, fmt::format("it holds {} particles, the input makes {}", count, model.particles.size()));
+  // Every section but the frame list is a fixed size per particle; 64 bytes per frame listed.
+  const auto size = static_cast<std::uint64_t>(st.st_size);
+  const std::uint64_t most = (count + 1) * 2 * Particles<D>::bytes_per_particle() + (std::uint64_t{1} << 30);
+  if (size > most) refuse(path, fmt::format("it is {} bytes long, more than a checkpoint of {} particles can be", size, count));
+  bytes.resize(static_cast<std::size_t>(size));
+  const std::size_t rest = bytes.size() - header_size;
+  if (std::fread(bytes.data() + header_size, 1, rest, f) != rest) refuse(path, "it could not be read to its end");
   return decode_checkpoint<D>(bytes, path, model, true);
 }
 

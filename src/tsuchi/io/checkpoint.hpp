@@ -5,7 +5,7 @@
 // little-endian arrays, and a CRC-32 of everything before it.
 //
 // What is saved: every particle array (Particles::for_each_array), the time and step counter, the
-// output counters, the frames listed in the .pvd and the CSV text written so far. Nothing else
+// output counters, the frames listed in the .pvd and the length and CRC-32 of the CSVs so far. Nothing else
 // carries over between steps: the grid is rebuilt from the particles every step, and the random
 // imperfection is drawn once at the start and lives in the particles' strength factors.
 #include "tsuchi/io/output_writer.hpp"
@@ -17,7 +17,8 @@
 
 namespace tsuchi {
 
-inline constexpr std::uint32_t checkpoint_version = 1;
+// 2: the CSV files are named by their length and CRC-32 instead of held whole.
+inline constexpr std::uint32_t checkpoint_version = 2;
 
 // The time loop's own state at the end of a step.
 struct RunProgress {
@@ -26,6 +27,7 @@ struct RunProgress {
   double dt = 0.0;                 // the last step's size
   std::int64_t frame_index = 1;    // index of the next scheduled frame time
   std::int64_t row_index = 1;      // index of the next scheduled global.csv row
+  std::int64_t label_index = 0;    // k of the next frame by recorder value, k * output.label_interval
   double last_frame = 0.0, last_row = 0.0;  // times of the last frame and row written
   OutputHistory output;
 };

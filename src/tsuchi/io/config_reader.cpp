@@ -49,7 +49,7 @@ void read_model(Section& s, Config& c) {
   c.dimension = static_cast<int>(
       s.integer("dimension", "2 (plane strain) or 3", [](std::int64_t d) { return d == 2 || d == 3; }, 0));
   if (c.dimension == 0) s.need("dimension", "2 (plane strain) or 3");
-  c.title = s.string("title", "a string", std::string{});
+  c.title = s.one_line("title", "a title", std::string{});
   c.gravity = s.vector("gravity", c.dimension, "m/s^2", any, Triple{});
   s.finish();
 }
@@ -100,6 +100,7 @@ void read_initial_velocity(Section& s, int dim, BodyConfig& b) {
   const toml::node* n = s.get("velocity");
   if (!n) return;
   const std::string expected = "numbers (m/s) or formulas of x, y, z in quotes";
+  b.velocity_where = where(s.file(), n->source());
   auto a = n->as_array();
   if (!a || static_cast<int>(a->size()) != dim)
     s.fail("velocity", fmt::format("expected an array of {} {}, got {}", dim, expected,
@@ -313,9 +314,14 @@ void read_output(Section& s, Config& c) {
   auto& o = c.output;
   o.directory = s.string("directory", "a directory path", o.directory);
   if (o.directory.empty()) s.fail("directory", "expected a directory path, got an empty string");
+  if (const toml::node* n = s.get("directory")) o.directory_where = where(s.file(), n->source());
   o.interval = s.number("interval", "a non-negative time in s", non_negative, 0.0);
   o.global_interval = s.number("global_interval", "a non-negative time in s", non_negative, 0.0);
   o.write_frames = s.boolean("frames", true);
+  o.frame_label = s.string("frame_label", "the name of a recorder", std::string{});
+  o.label_interval = s.number("label_interval", "a positive step of the frame_label recorder's value", positive, 0.0);
+  if (s.has("label_interval") && o.frame_label.empty())
+    s.fail("label_interval", "frames by a recorder's value need 'frame_label', the name of that recorder");
   o.fields.clear();
   if (const toml::node* n = s.get("fields")) {
     auto a = n->as_array();
@@ -339,6 +345,7 @@ void read_checkpoint(Section& s, Config& c) {
   k.every_steps = s.integer("every_steps", "a non-negative whole number of steps", [](std::int64_t n) { return n >= 0; }, 0);
   k.every_minutes = s.number("every_minutes", "a non-negative wall time in minutes", non_negative, 0.0);
   k.file = s.string("file", "a file name", k.file);
+  if (const toml::node* n = s.get("file")) k.file_where = where(s.file(), n->source());
   if (k.file.empty() || k.file.back() == '/') s.fail("file", fmt::format("expected a file name, got \"{}\"", k.file));
   s.finish();
 }
@@ -459,15 +466,13 @@ Config read_document(const toml::table& root, const std::string& file) {
   Section gs(*grid, "grid", file);
   read_grid(gs, c);
 
-  const auto mats = top.tables("materials");
-  if (mats.empty()) top.need("materials", "at least one [[materials]] table");
+  const auto mats = top.need_tables("materials", "at least one [[materials]] table");
   for (std::size_t i = 0; i < mats.size(); ++i) {
     Section s(*mats[i], fmt::format("materials.{}", i), file);
-    c.materials.push_back(read_material(s, c.materials));
+    c.materials.push_back(read_material(s, c.materials, &c.warnings));
   }
 
-  const auto bodies = top.tables("bodies");
-  if (bodies.empty()) top.need("bodies", "at least one [[bodies]] table");
+  const auto bodies = top.need_tables("bodies", "at least one [[bodies]] table");
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     Section s(*bodies[i], fmt::format("bodies.{}", i), file);
     read_body(s, c, i);
@@ -505,6 +510,16 @@ Config read_document(const toml::table& root, const std::string& file) {
     read_recorder(s, c);
   }
 
+  if (!c.output.frame_label.empty()) {
+    const auto it = std::find_if(c.recorders.begin(), c.recorders.end(),
+                                 [&](const RecorderConfig& r) { return r.name == c.output.frame_label; });
+    if (it == c.recorders.end())
+      os.fail("frame_label", fmt::format("expected the name of a recorder ({}), got \"{}\"",
+                                         c.recorders.empty() ? std::string("none defined")
+                                                             : quoted_list(c.recorders, &RecorderConfig::name),
+                                         printable(c.output.frame_label)));
+    c.output.frame_label_recorder = static_cast<int>(it - c.recorders.begin());
+  }
   top.finish();
   c.fingerprint = fingerprint(root);
   return c;

@@ -207,8 +207,7 @@ ElementPath general(Section& s) {
   ElementPath path;
   path.kind = "general";
   path.initial_stress = read_initial_stress(s);
-  const auto tables = s.tables("segments");
-  if (tables.empty()) s.need("segments", "at least one [[test.segments]] table");
+  const auto tables = s.need_tables("segments", "at least one [[test.segments]] table");
   for (std::size_t i = 0; i < tables.size(); ++i) {
     Section seg(*tables[i], s.key_path(fmt::format("segments.{}", i)), s.file());
     path.segments.push_back(read_segment(seg));
@@ -268,14 +267,13 @@ ElementInput read_element_string(const std::string& text, const std::string& fil
   Section top(root, "", file);
   ElementInput in;
   in.source = file;
-  in.title = top.string("title", "a title", std::string{});
+  in.title = top.one_line("title", "a title", std::string{});
 
   std::vector<Material> materials;
-  const auto mats = top.tables("materials");
-  if (mats.empty()) top.need("materials", "at least one [[materials]] table");
+  const auto mats = top.need_tables("materials", "at least one [[materials]] table");
   for (std::size_t i = 0; i < mats.size(); ++i) {
     Section s(*mats[i], fmt::format("materials.{}", i), file);
-    materials.push_back(read_material(s, materials));
+    materials.push_back(read_material(s, materials, &in.warnings));
   }
 
   const toml::table* test_t = top.table("test");

@@ -17,6 +17,7 @@ struct ElementInput {
   Material material;   // the one under test
   element::ElementPath path;
   element::IterationSettings iteration;
+  std::vector<std::string> warnings;  // likely slips of units (io/material_reader.hpp)
 };
 
 // Both throw InputError naming the file, line, key and what was expected.

@@ -6,17 +6,41 @@ namespace tsuchi::io {
 
 namespace {
 
-LinearElastic read_elastic(Section& s) {
+void warn(const Section& s, std::vector<std::string>* warnings, std::string_view key, const std::string& msg) {
+  if (!warnings) return;
+  const toml::node* n = s.raw().get(key);
+  warnings->push_back(fmt::format("{}: key '{}': {}", where(s.file(), n ? n->source() : s.raw().source()),
+                                  s.key_path(key), msg));
+}
+
+// Soil moduli are MPa to GPa: below 1 kPa, a value was most likely given in kPa or MPa.
+void check_modulus(const Section& s, std::vector<std::string>* warnings, std::string_view key, double v) {
+  if (v < 1e3)
+    warn(s, warnings, key,
+         fmt::format("{:g} Pa is below 1 kPa; moduli are in Pa (for {:g} MPa write {:g})", v, v, v * 1e6));
+}
+
+LinearElastic read_elastic(Section& s, std::vector<std::string>* warnings) {
   const double nu = s.number("poisson_ratio", "a Poisson's ratio in (-1, 0.5)",
                              [](double v) { return v > -1.0 && v < 0.5; });
   const bool has_E = s.has("youngs_modulus"), has_G = s.has("shear_modulus");
   if (has_E == has_G) s.fail_here("give exactly one of 'youngs_modulus' and 'shear_modulus' (Pa)");
-  if (has_E) return LinearElastic::from_young(s.number("youngs_modulus", "a positive modulus in Pa", positive), nu);
-  return LinearElastic::from_shear(s.number("shear_modulus", "a positive modulus in Pa", positive), nu);
+  const char* key = has_E ? "youngs_modulus" : "shear_modulus";
+  const double modulus = s.number(key, "a positive modulus in Pa", positive);
+  check_modulus(s, warnings, key, modulus);
+  return has_E ? LinearElastic::from_young(modulus, nu) : LinearElastic::from_shear(modulus, nu);
+}
+
+// Angles are in degrees; one below 1 degree was most likely given in radians.
+void check_angle(const Section& s, std::vector<std::string>* warnings, std::string_view key, double degrees) {
+  if (degrees > 0.0 && degrees < 1.0)
+    warn(s, warnings, key,
+         fmt::format("{:g} degrees is below 1 degree; angles are in degrees ({:g} radians would be {:.4g} degrees)",
+                     degrees, degrees, degrees * 180.0 / std::numbers::pi));
 }
 
 // Angles are given in degrees, as in every soil report.
-MohrCoulomb read_mohr_coulomb(Section& s, const LinearElastic& elastic) {
+MohrCoulomb read_mohr_coulomb(Section& s, const LinearElastic& elastic, std::vector<std::string>* warnings) {
   constexpr double rad = std::numbers::pi / 180.0;
   MohrCoulomb m;
   m.elastic = elastic;
@@ -25,6 +49,8 @@ MohrCoulomb read_mohr_coulomb(Section& s, const LinearElastic& elastic) {
                               [](double v) { return v > 0.0 && v < 90.0; });
   const double psi = s.number("dilatancy_angle", "a dilatancy angle in degrees, in [0, friction_angle]",
                               [](double v) { return v >= 0.0 && v < 90.0; }, 0.0);
+  check_angle(s, warnings, "friction_angle", phi);
+  check_angle(s, warnings, "dilatancy_angle", psi);
   if (psi > phi)
     s.fail("dilatancy_angle",
            fmt::format("expected a dilatancy angle no larger than the friction angle ({} degrees), got {}", phi, psi));
@@ -46,7 +72,7 @@ MohrCoulomb read_mohr_coulomb(Section& s, const LinearElastic& elastic) {
 
 }  // namespace
 
-Material read_material(Section& s, const std::vector<Material>& defined) {
+Material read_material(Section& s, const std::vector<Material>& defined, std::vector<std::string>* warnings) {
   Material m;
   m.name = s.string("name", "a material name");
   for (const auto& other : defined)
@@ -54,9 +80,9 @@ Material read_material(Section& s, const std::vector<Material>& defined) {
   const int model = s.choice("model", {"linear_elastic", "mohr_coulomb"}, -1);
   if (model < 0) s.need("model", "a constitutive model name (\"linear_elastic\" or \"mohr_coulomb\")");
   m.density = s.number("density", "a positive density in kg/m^3", positive);
-  const LinearElastic elastic = read_elastic(s);
+  const LinearElastic elastic = read_elastic(s, warnings);
   if (model == 0) m.model = elastic;
-  else m.model = read_mohr_coulomb(s, elastic);
+  else m.model = read_mohr_coulomb(s, elastic, warnings);
   s.finish();
   return m;
 }

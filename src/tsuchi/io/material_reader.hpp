@@ -9,6 +9,8 @@
 namespace tsuchi::io {
 
 // `defined` are the materials read so far (names must be unique). Calls s.finish().
-Material read_material(Section& s, const std::vector<Material>& defined);
+// Values that are valid but most likely a slip of units (an angle below 1 degree, given in
+// radians; a modulus below 1 kPa, given in MPa) add a warning to `warnings` when it is given.
+Material read_material(Section& s, const std::vector<Material>& defined, std::vector<std::string>* warnings = nullptr);
 
 }  // namespace tsuchi::io

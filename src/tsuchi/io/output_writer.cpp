@@ -1,25 +1,115 @@
 #include "tsuchi/io/output_writer.hpp"
 
+#include "tsuchi/core/errors.hpp"
 #include "tsuchi/io/atomic_file.hpp"
 #include "tsuchi/io/vtu_writer.hpp"
 #include "tsuchi/solver/global_quantities.hpp"
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <filesystem>
+
 namespace tsuchi {
 
-template <int D>
-OutputWriter<D>::OutputWriter(const Model<D>& model, std::string directory, const std::vector<Recorder<D>>& recorders)
-    : m_(model), dir_(std::move(directory)), recorders_(recorders) {
-  prepare_output_directory(dir_);
-  h_.global_csv = "time,step,dt,kinetic_energy,strain_energy,gravity_potential,total_energy,mass";
-  for (int d = 0; d < D; ++d) h_.global_csv += fmt::format(",momentum_{}", "xyz"[d]);
-  h_.global_csv += '\n';
-  if (!recorders_.empty()) {
-    h_.recorder_csv = "time,step";
-    for (const auto& r : recorders_) h_.recorder_csv += "," + r.config().name;
-    h_.recorder_csv += '\n';
+namespace fs = std::filesystem;
+
+bool is_frame_file_name(const std::string& name) {
+  const std::string head = "particles_", tail = ".vtu";
+  if (name.size() < head.size() + 6 + tail.size() || name.compare(0, head.size(), head) != 0 ||
+      name.compare(name.size() - tail.size(), tail.size(), tail) != 0)
+    return false;
+  return std::all_of(name.begin() + static_cast<std::ptrdiff_t>(head.size()),
+                     name.end() - static_cast<std::ptrdiff_t>(tail.size()),
+                     [](unsigned char c) { return c >= '0' && c <= '9'; });
+}
+
+namespace {
+
+// Absolute, symbolic links of the existing part resolved, "." and ".." and a trailing "/" gone.
+fs::path normal(const fs::path& p) {
+  std::error_code ec;
+  fs::path r = fs::weakly_canonical(fs::absolute(p, ec), ec).lexically_normal();
+  if (r.has_parent_path() && r.filename().empty()) r = r.parent_path();
+  return r;
+}
+
+// The same file, whether or not it exists yet.
+bool same_path(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+  return normal(a) == normal(b);
+}
+
+}  // namespace
+
+void check_output_paths(const Config& c, const std::string& directory, const std::string& checkpoint) {
+  const fs::path dir(directory), ck(checkpoint), input(c.source);
+  const std::string& at = c.checkpoint.file_where.empty() ? c.source : c.checkpoint.file_where;
+  auto refuse = [&](const std::string& what) {
+    throw InputError(fmt::format("{}: key 'checkpoint.file': expected a file of its own, got \"{}\": {}", at,
+                                 c.checkpoint.file, what));
+  };
+  std::error_code ec;
+  if (same_path(ck, dir)) refuse(fmt::format("that is the output directory {}", directory));
+  if (fs::is_directory(ck, ec)) refuse(fmt::format("{} is a directory", checkpoint));
+  if (fs::exists(input, ec) && same_path(ck, input))
+    refuse(fmt::format("{} is the input file, which the checkpoint would overwrite", checkpoint));
+  if (same_path(normal(ck).parent_path(), dir)) {
+    const std::string name = normal(ck).filename().string();
+    if (name == "particles.pvd" || name == "global.csv" || name == "recorders.csv" || is_frame_file_name(name) ||
+        name == DirectoryLock::file_name)
+      refuse(fmt::format("{} is one of the run's output files, which the checkpoint would overwrite", checkpoint));
   }
+  // The input file itself in the output directory under the name of an output.
+  if (fs::exists(input, ec) && same_path(input.parent_path(), dir)) {
+    const std::string name = input.filename().string();
+    if (name == "particles.pvd" || name == "global.csv" || name == "recorders.csv" || is_frame_file_name(name))
+      throw InputError(fmt::format("{}: key 'output.directory': the input file is {}, an output file of this run in "
+                                   "that directory; move the input or choose another output directory",
+                                   c.output.directory_where.empty() ? c.source : c.output.directory_where,
+                                   c.source));
+  }
+}
+
+template <int D>
+OutputWriter<D>::OutputWriter(const Model<D>& model, std::string directory, const std::vector<Recorder<D>>& recorders,
+                              const OutputHistory* resume)
+    : m_(model), dir_(std::move(directory)), lock_((prepare_output_directory(dir_), dir_)), recorders_(recorders) {
+  std::string global_header = "time,step,dt,kinetic_energy,strain_energy,gravity_potential,total_energy,mass";
+  for (int d = 0; d < D; ++d) global_header += fmt::format(",momentum_{}", "xyz"[d]);
+  global_header += '\n';
+  std::string recorder_header;
+  if (!recorders_.empty()) {
+    recorder_header = "time,step";
+    for (const auto& r : recorders_) recorder_header += "," + r.config().name;
+    recorder_header += '\n';
+  }
+  if (resume) {
+    h_ = *resume;
+    for (const auto& [t, name] : h_.frames)
+      if (!fs::exists(fs::path(dir_) / name))
+        throw InputError(fmt::format("cannot continue the run in {}: frame {} of the checkpoint is not there; restart "
+                                     "into the output directory of the checkpointed run (-o), where its frames are",
+                                     dir_, name));
+    global_.resume(dir_ + "/global.csv", h_.global_bytes, h_.global_crc);
+    if (!recorders_.empty()) recorder_file_.resume(dir_ + "/recorders.csv", h_.recorder_bytes, h_.recorder_crc);
+  } else {
+    global_.create(dir_ + "/global.csv", global_header);
+    if (!recorders_.empty()) recorder_file_.create(dir_ + "/recorders.csv", recorder_header);
+  }
+  // Frames of an earlier run (or written after the checkpoint by a killed one) would mix with this
+  // run's in ParaView's view of the file series: remove every frame this run does not list.
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(dir_, ec)) {
+    const std::string name = entry.path().filename().string();
+    const bool listed = std::any_of(h_.frames.begin(), h_.frames.end(), [&](const auto& f) { return f.second == name; });
+    if ((is_frame_file_name(name) && !listed) || (name == "recorders.csv" && recorders_.empty()))
+      fs::remove(entry.path(), ec);
+  }
+  const std::string pvd = dir_ + "/particles.pvd";
+  if (h_.frames.empty()) fs::remove(pvd, ec);
+  else write_file_atomically(pvd, pvd_document(h_.frames));
 }
 
 template <int D>
@@ -27,7 +117,8 @@ void OutputWriter<D>::frame(double time) {
   if (!m_.config.output.write_frames) return;
   const std::string name = fmt::format("particles_{:06d}.vtu", h_.frames.size());
   write_file_atomically(dir_ + "/" + name, vtu_document<D>(m_, m_.config.output.fields));
-  h_.frames.emplace_back(time, name);
+  const int label = m_.config.output.frame_label_recorder;
+  h_.frames.emplace_back(label >= 0 ? recorders_[static_cast<std::size_t>(label)].value(m_.particles) : time, name);
   write_file_atomically(dir_ + "/particles.pvd", pvd_document(h_.frames));
   flush_global();
 }
@@ -35,21 +126,34 @@ void OutputWriter<D>::frame(double time) {
 template <int D>
 void OutputWriter<D>::global_row(double time, std::int64_t step, double dt) {
   const auto q = global_quantities<D>(m_);
-  h_.global_csv += fmt::format("{:.12g},{},{:.9g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g}", time, step, dt,
-                      q.kinetic_energy, q.strain_energy, q.gravity_potential,
-                      q.kinetic_energy + q.strain_energy + q.gravity_potential, q.mass);
-  for (int d = 0; d < D; ++d) h_.global_csv += fmt::format(",{:.12g}", q.momentum[d]);
-  h_.global_csv += '\n';
+  std::string row = fmt::format("{:.12g},{},{:.9g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g}", time, step, dt,
+                                q.kinetic_energy, q.strain_energy, q.gravity_potential,
+                                q.kinetic_energy + q.strain_energy + q.gravity_potential, q.mass);
+  for (int d = 0; d < D; ++d) row += fmt::format(",{:.12g}", q.momentum[d]);
+  row += '\n';
+  global_.append(row);
   if (recorders_.empty()) return;
-  h_.recorder_csv += fmt::format("{:.12g},{}", time, step);
-  for (const auto& r : recorders_) h_.recorder_csv += fmt::format(",{:.12g}", r.value(m_.particles));
-  h_.recorder_csv += '\n';
+  row = fmt::format("{:.12g},{}", time, step);
+  for (const auto& r : recorders_) row += fmt::format(",{:.12g}", r.value(m_.particles));
+  row += '\n';
+  recorder_file_.append(row);
 }
 
 template <int D>
-void OutputWriter<D>::flush_global() {
-  write_file_atomically(dir_ + "/global.csv", h_.global_csv);
-  if (!recorders_.empty()) write_file_atomically(dir_ + "/recorders.csv", h_.recorder_csv);
+void OutputWriter<D>::flush_global(bool sync) {
+  global_.flush(sync);
+  recorder_file_.flush(sync);
+}
+
+template <int D>
+OutputHistory OutputWriter<D>::history() const {
+  OutputHistory h;
+  h.frames = h_.frames;
+  h.global_bytes = global_.bytes();
+  h.global_crc = global_.crc();
+  h.recorder_bytes = recorder_file_.bytes();
+  h.recorder_crc = recorder_file_.crc();
+  return h;
 }
 
 template class OutputWriter<2>;

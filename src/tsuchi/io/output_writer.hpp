@@ -4,7 +4,11 @@
 //   particles.pvd         the time series ParaView opens, listing only complete frames
 //   global.csv            time series of whole-model quantities
 //   recorders.csv         time series of the input's recorders (when it has any), same rows
-// Every file is replaced atomically, so a run killed at any moment leaves only complete files.
+// Frames and the .pvd are replaced atomically; the CSVs grow by whole rows. A run holds a lock on
+// the directory (io/output_lock.hpp), and removes the frames of an earlier run there, so that
+// the directory only ever shows one run.
+#include "tsuchi/io/appended_file.hpp"
+#include "tsuchi/io/output_lock.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/solver/recorder.hpp"
 
@@ -14,37 +18,50 @@
 
 namespace tsuchi {
 
-// Everything the files above hold so far, kept in memory so each rewrite is whole; a checkpoint
-// saves it and a restart puts it back.
+// What the files above hold so far: the frames listed in the .pvd, and how far each CSV goes
+// (its length in bytes and the CRC-32 of those bytes). A checkpoint saves it, a restart checks the
+// files against it and continues them.
 struct OutputHistory {
   std::vector<std::pair<double, std::string>> frames;  // (time, file name) listed in the .pvd
-  std::string global_csv;
-  std::string recorder_csv;  // empty when the input has no recorders
+  std::uint64_t global_bytes = 0, recorder_bytes = 0;  // recorder_*: 0 when the input has no recorders
+  std::uint32_t global_crc = 0, recorder_crc = 0;
 };
+
+// particles_NNNNNN.vtu (six or more digits): the name of a frame file.
+bool is_frame_file_name(const std::string& name);
+
+// Refuses (InputError naming the file, line and key) an output that would overwrite the input
+// file or another output of the run: the checkpoint file named as the input, the .pvd, a CSV, a
+// frame or a directory, or an input file inside the output directory under an output's name.
+void check_output_paths(const Config& config, const std::string& directory, const std::string& checkpoint);
 
 template <int D>
 class OutputWriter {
  public:
+  // Creates the directory, locks it and starts the files; with `resume`, continues the files of a
+  // checkpointed run instead (InputError when they are not there as the checkpoint left them).
   // `recorders` are the run's (chosen on the initial state) and must outlive the writer.
-  OutputWriter(const Model<D>& model, std::string directory, const std::vector<Recorder<D>>& recorders);
+  OutputWriter(const Model<D>& model, std::string directory, const std::vector<Recorder<D>>& recorders,
+               const OutputHistory* resume = nullptr);
 
   void frame(double time);
   void global_row(double time, std::int64_t step, double dt);
-  // Rewrites global.csv with all rows so far; done with every frame and at the end of a run (and
-  // by the run loop every half minute), not per row, so long runs do not rewrite it per step.
-  void flush_global();
+  // Writes the queued CSV rows to the files (done with every frame, at the end of a run and by the
+  // run loop every half minute); with `sync`, also to disk, as before a checkpoint.
+  void flush_global(bool sync = false);
 
   const std::string& directory() const { return dir_; }
   std::size_t frames_written() const { return h_.frames.size(); }
-  const OutputHistory& history() const { return h_; }
-  // Continues the files of a checkpointed run: later frames and rows follow the saved ones.
-  void restore(OutputHistory h) { h_ = std::move(h); }
+  // The history for a checkpoint: call flush_global(true) first.
+  OutputHistory history() const;
 
  private:
   const Model<D>& m_;
   std::string dir_;
+  DirectoryLock lock_;
   OutputHistory h_;
   const std::vector<Recorder<D>>& recorders_;
+  AppendedFile global_, recorder_file_;
 };
 
 extern template class OutputWriter<2>;

@@ -8,8 +8,8 @@ namespace tsuchi {
 
 const std::vector<std::string>& all_particle_fields() {
   static const std::vector<std::string> names{
-      "id",     "displacement", "velocity", "stress",   "strain", "max_shear_strain",
-      "volume", "mass",         "density",  "material", "body",
+      "id",     "displacement", "velocity", "stress",   "strain", "max_shear_strain", "mean_stress", "deviator_stress",
+      "radius", "volume",       "mass",     "density",  "material", "body",
       "yield_mode", "plastic_shear_strain", "plastic_volumetric_strain", "cohesion_factor", "friction_factor"};
   return names;
 }

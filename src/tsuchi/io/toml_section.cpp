@@ -1,6 +1,7 @@
 #include "tsuchi/io/toml_section.hpp"
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -12,18 +13,22 @@ namespace {
 void apply_override(toml::table& root, const std::string& assignment, const std::string& file) {
   const auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw InputError(fmt::format("{}: override '{}': expected key=value", file, assignment));
+    throw InputError(fmt::format("{}: override '{}': expected key=value", file, printable(assignment)));
   std::string path = assignment.substr(0, eq);
   path.erase(path.find_last_not_of(" \t") + 1);
   // Only blanks before the '=' (found by fuzzing: parts.back() below read past an empty list).
-  if (path.empty()) throw InputError(fmt::format("{}: override '{}': expected key=value", file, assignment));
+  if (path.empty()) throw InputError(fmt::format("{}: override '{}': expected key=value", file, printable(assignment)));
   const std::string value = assignment.substr(eq + 1);
+  // toml++ would read a second line as another key of its own little document, which is dropped.
+  if (assignment.find_first_of("\n\r") != std::string::npos)
+    throw InputError(fmt::format("{}: override '{}': expected key=value on one line, got a line break in the value",
+                                 file, printable(assignment)));
   toml::table parsed;
   try {
     parsed = toml::parse(std::string_view(std::string("v = ") + value), std::string_view("override"));
   } catch (const toml::parse_error& e) {
     throw InputError(fmt::format("{}: override '{}': the value is not valid TOML ({})", file,
-                                 assignment, e.description()));
+                                 printable(assignment), e.description()));
   }
   std::vector<std::string> parts;
   std::stringstream ss(path);
@@ -40,11 +45,11 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
       if (*end == '\0' && k >= 0 && static_cast<std::size_t>(k) < a->size()) next = a->get(static_cast<std::size_t>(k));
     }
     if (!next || !(next->is_table() || next->is_array()))
-      throw InputError(fmt::format("{}: override '{}': '{}' does not name a table", file, assignment, parts[i]));
+      throw InputError(fmt::format("{}: override '{}': '{}' does not name a table", file, printable(assignment), parts[i]));
     here = next;
   }
   auto t = here->as_table();
-  if (!t) throw InputError(fmt::format("{}: override '{}': cannot set an array entry", file, assignment));
+  if (!t) throw InputError(fmt::format("{}: override '{}': cannot set an array entry", file, printable(assignment)));
   t->insert_or_assign(parts.back(), *parsed.get("v"));
 }
 
@@ -70,11 +75,24 @@ toml::table parse_toml(const std::string& text, const std::string& file, const s
 }
 
 std::string read_input_file(const std::string& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    throw InputError(fmt::format("{}: cannot read the input file: it is {}, not a regular file", path,
+                                 std::filesystem::is_directory(status) ? "a directory" : "a device, pipe or socket"));
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot open the input file", path));
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  in.seekg(0, std::ios::end);
+  const auto size = static_cast<std::uint64_t>(in.tellg());
+  if (size > max_input_bytes)
+    throw InputError(fmt::format("{}: the input file is {} bytes long; input files above {} MB are refused (an input "
+                                 "is a few kB of TOML)",
+                                 path, size, max_input_bytes >> 20));
+  in.seekg(0);
+  std::string text(static_cast<std::size_t>(size), '\0');
+  in.read(text.data(), static_cast<std::streamsize>(size));
+  if (!in) throw InputError(fmt::format("{}: cannot read the input file", path));
+  return text;
 }
 
 }  // namespace tsuchi::io

@@ -29,6 +29,38 @@ std::string quoted_list(const Range& items, Name name = {}) {
   return r;
 }
 
+// Text from the input as it goes into a message: control characters and invisible ones (zero-width
+// spaces, a byte-order mark, a no-break space) shown as \u{XXXX}, bytes that are not UTF-8 as
+// \xNN, and at most `max` characters, so that a stray character can be seen and a 1 MB key does not
+// fill the terminal.
+inline std::string printable(std::string_view s, std::size_t max = 80) {
+  std::string r;
+  std::size_t shown = 0, i = 0;
+  while (i < s.size() && shown < max) {
+    const auto c = static_cast<unsigned char>(s[i]);
+    std::size_t len = c < 0x80 ? 1 : (c >> 5) == 6 ? 2 : (c >> 4) == 14 ? 3 : (c >> 3) == 30 ? 4 : 0;
+    char32_t cp = len == 1 ? c : len == 2 ? c & 0x1f : len == 3 ? c & 0x0f : c & 0x07;
+    for (std::size_t k = 1; k < len; ++k) {
+      const auto cc = i + k < s.size() ? static_cast<unsigned char>(s[i + k]) : 0;
+      if ((cc >> 6) != 2) len = 0;
+      cp = (cp << 6) | (cc & 0x3f);
+    }
+    if (len == 0) {
+      r += fmt::format("\\x{:02x}", c);
+      ++i;
+    } else {
+      const bool invisible = cp < 0x20 || (cp >= 0x7f && cp <= 0xa0) || cp == 0xad || (cp >= 0x200b && cp <= 0x200f) ||
+                             (cp >= 0x2028 && cp <= 0x202e) || (cp >= 0x2060 && cp <= 0x2064) || cp == 0xfeff;
+      if (invisible) r += fmt::format("\\u{{{:04X}}}", static_cast<std::uint32_t>(cp));
+      else r.append(s.substr(i, len));
+      i += len;
+    }
+    ++shown;
+  }
+  if (i < s.size()) r += fmt::format("... ({} bytes in all)", s.size());
+  return r;
+}
+
 inline std::string describe(const toml::node& n) {
   if (auto v = n.as_integer()) return fmt::format("{}", v->get());
   if (auto v = n.as_floating_point()) {
@@ -37,7 +69,7 @@ inline std::string describe(const toml::node& n) {
     if (r.find_first_of(".eEn") == std::string::npos) r += ".0";
     return r;
   }
-  if (auto v = n.as_string()) return fmt::format("\"{}\"", v->get());
+  if (auto v = n.as_string()) return fmt::format("\"{}\"", printable(v->get()));
   if (auto v = n.as_boolean()) return v->get() ? "true" : "false";
   if (n.is_array()) return "an array";
   if (n.is_table()) return "a table";
@@ -57,7 +89,7 @@ class Section {
       : t_(t), path_(std::move(path)), file_(file) {}
 
   std::string key_path(std::string_view key) const {
-    return path_.empty() ? std::string(key) : fmt::format("{}.{}", path_, key);
+    return path_.empty() ? printable(key) : fmt::format("{}.{}", path_, printable(key));
   }
 
   [[noreturn]] void fail(std::string_view key, const std::string& msg) const {
@@ -139,6 +171,16 @@ class Section {
     return s->get();
   }
 
+  // A string written on one line of an output (a title in a CSV header): no line break or other
+  // control character.
+  std::string one_line(std::string_view key, const std::string& expected, std::optional<std::string> fallback = {}) {
+    std::string v = string(key, expected, std::move(fallback));
+    if (std::any_of(v.begin(), v.end(), [](unsigned char ch) { return ch < 0x20 || ch == 0x7f; }))
+      fail(key, fmt::format("expected {} on one line, got a string with a line break or another control character",
+                            expected));
+    return v;
+  }
+
   bool boolean(std::string_view key, bool fallback) {
     const toml::node* n = get(key);
     if (!n) return fallback;
@@ -206,6 +248,17 @@ class Section {
     for (const auto& e : *a) {
       if (!e.is_table()) fail(key, fmt::format("expected an array of tables ([[{}]]), got an entry that is {}", key, describe(e)));
       r.push_back(e.as_table());
+    }
+    return r;
+  }
+
+  // [[key]] array of tables that must hold at least one entry: an absent key and an empty array
+  // (`bodies = []`, in the file or from --set) are both refused.
+  std::vector<const toml::table*> need_tables(std::string_view key, const std::string& expected) {
+    auto r = tables(key);
+    if (r.empty()) {
+      if (!has(key)) need(key, expected);
+      fail(key, fmt::format("expected {}, got an empty array", expected));
     }
     return r;
   }
@@ -279,7 +332,9 @@ inline const auto any = [](double) { return true; };
 // parts index arrays of tables). Syntax errors become InputError with the file and position.
 toml::table parse_toml(const std::string& text, const std::string& file, const std::vector<std::string>& overrides);
 
-// The whole file, or InputError naming it.
+// The whole file, or InputError naming it; anything but a regular file of at most
+// max_input_bytes is refused before it is read.
+inline constexpr std::uint64_t max_input_bytes = std::uint64_t{16} << 20;
 std::string read_input_file(const std::string& path);
 
 }  // namespace tsuchi::io

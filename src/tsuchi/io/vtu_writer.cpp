@@ -1,9 +1,11 @@
 #include "tsuchi/io/vtu_writer.hpp"
 
 #include "tsuchi/core/principal.hpp"
+#include "tsuchi/core/version.hpp"
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 
@@ -59,11 +61,14 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
   VtuBuilder b;
   std::string xml = fmt::format(
       "<?xml version=\"1.0\"?>\n"
+      "<!-- written by tsuchi {} -->\n"
       "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       "  <UnstructuredGrid>\n"
       "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n"
-      "      <PointData>\n",
-      n, n);
+      "      <PointData{}>\n",
+      version, n, n,
+      // The field ParaView colours by when a frame is opened: where the shear bands are.
+      std::find(fields.begin(), fields.end(), "max_shear_strain") != fields.end() ? " Scalars=\"max_shear_strain\"" : "");
   for (const auto& f : fields) {
     if (f == "id") b.array(xml, "Int32", f, 1, p.id_p);
     else if (f == "displacement") b.array(xml, "Float64", f, 3, vectors3<D>(p.u_p));
@@ -74,6 +79,22 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
       std::vector<double> g(n);
       for (std::size_t i = 0; i < n; ++i) g[i] = max_shear_strain<D>(p.eps_p[i]);
       b.array(xml, "Float64", f, 1, g);
+    } else if (f == "mean_stress") {
+      // p = tr(sigma) / 3, tension positive (sigma_zz included in 2D), Pa.
+      std::vector<double> mean(n);
+      for (std::size_t i = 0; i < n; ++i) mean[i] = trace<D>(p.sigma_p[i]) / 3.0;
+      b.array(xml, "Float64", f, 1, mean);
+    } else if (f == "deviator_stress") {
+      // q = sqrt(3 J2), the von Mises stress, Pa.
+      std::vector<double> q(n);
+      for (std::size_t i = 0; i < n; ++i) q[i] = von_mises<D>(p.sigma_p[i]);
+      b.array(xml, "Float64", f, 1, q);
+    } else if (f == "radius") {
+      // Half the side of the particle's GIMP domain, the mean over the axes: the size ParaView's
+      // Point Gaussian representation draws each particle with (docs/input.md).
+      std::vector<double> r(n);
+      for (std::size_t i = 0; i < n; ++i) r[i] = p.l_p[i].mean();
+      b.array(xml, "Float64", f, 1, r);
     } else if (f == "volume") b.array(xml, "Float64", f, 1, p.V_p);
     else if (f == "mass") b.array(xml, "Float64", f, 1, p.m_p);
     else if (f == "density") {
@@ -106,10 +127,12 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
 }
 
 std::string pvd_document(const std::vector<std::pair<double, std::string>>& frames) {
-  std::string xml =
+  std::string xml = fmt::format(
       "<?xml version=\"1.0\"?>\n"
+      "<!-- written by tsuchi {} -->\n"
       "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
-      "  <Collection>\n";
+      "  <Collection>\n",
+      version);
   for (const auto& [t, file] : frames)
     xml += fmt::format("    <DataSet timestep=\"{:.12g}\" part=\"0\" file=\"{}\"/>\n", t, file);
   xml += "  </Collection>\n</VTKFile>\n";

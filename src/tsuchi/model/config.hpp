@@ -53,6 +53,7 @@ struct BodyConfig {
   std::array<int, 3> particles_per_cell{2, 2, 2};
   Triple velocity{};
   std::array<std::string, 3> velocity_formula;  // when set, replaces velocity[d]: a formula of x, y, z
+  std::string velocity_where;                    // "FILE:LINE:COL" of 'velocity', for messages
   // Prescribed particle velocity (a loading platen): component d is held at
   // prescribed_velocity[d] + sum_j prescribed_gradient[d][j] x_j when prescribed[d] is set.
   std::array<bool, 3> prescribed{false, false, false};
@@ -97,15 +98,23 @@ struct CheckpointConfig {
   std::int64_t every_steps = 0;    // 0: not by step count
   double every_minutes = 0.0;      // 0: not by wall time
   std::string file = "checkpoint.tsuchi";  // relative to the output directory unless absolute
+  std::string file_where;                  // "FILE:LINE:COL" of the key, for messages ("" when not given)
   bool enabled() const { return every_steps > 0 || every_minutes > 0.0; }
 };
 
 struct OutputConfig {
   std::string directory = "results";
+  std::string directory_where;     // "FILE:LINE:COL" of the key, for messages ("" when not given)
   double interval = 0.0;           // s between particle frames; 0 writes only the first and last
   double global_interval = 0.0;    // s between rows of the global CSV; 0: every step
   std::vector<std::string> fields;  // particle fields in the .vtu frames
   bool write_frames = true;
+  // A recorder that labels the frames: its value is each frame's "timestep" in the .pvd (so
+  // ParaView's time axis is, say, the axial strain). With label_interval > 0 a frame is also
+  // written after the step at which the recorder passes each multiple k * label_interval.
+  std::string frame_label;          // "" = frames labelled by time
+  int frame_label_recorder = -1;    // its index in Config::recorders
+  double label_interval = 0.0;
 };
 
 // A recorded quantity: `reduction` over a particle set of one per-particle quantity, written as
@@ -139,6 +148,8 @@ struct Config {
   // checkpoint schedule, time step choice, stop bounds or title): a checkpoint restarts only a
   // configuration with the same fingerprint.
   std::uint64_t fingerprint = 0;
+  // Valid values that look like a slip of units ("FILE:LINE:COL: key '...': ..."); printed, not refused.
+  std::vector<std::string> warnings;
 };
 
 const char* to_string(Scheme s);

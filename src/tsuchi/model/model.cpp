@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace tsuchi {
@@ -110,28 +111,80 @@ void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m
   }
 }
 
+// The particle lattice of a body: spacing h / n per axis, aligned with the grid.
+template <int D>
+struct Lattice {
+  Vec<D> spacing;
+  std::array<int, D> first{}, count{};
+  double total = 1;  // a double: the product may not fit an integer (refused by the memory check)
+  int empty_axis = -1;
+};
+
+template <int D>
+Lattice<D> lattice(const BodyConfig& b, const Grid<D>& g) {
+  Lattice<D> l;
+  for (int d = 0; d < D; ++d) {
+    l.spacing[d] = g.h / b.particles_per_cell[d];
+    // Lattice points origin + (j + 1/2) spacing in [min, max) (a box aligned with the lattice
+    // holds exactly its share; the 1e-9 keeps rounding from adding or losing a row).
+    const double lo = (b.min[d] - g.origin[d]) / l.spacing[d] - 0.5;
+    const double hi = (b.max[d] - g.origin[d]) / l.spacing[d] - 0.5;
+    l.first[d] = static_cast<int>(std::ceil(lo - 1e-9));
+    const int last = static_cast<int>(std::floor(hi - 1e-9));
+    l.count[d] = std::max(0, last - l.first[d] + 1);
+    l.total *= l.count[d];
+    if (l.count[d] == 0 && l.empty_axis < 0) l.empty_axis = d;
+  }
+  return l;
+}
+
+// Bytes free for this run: MemAvailable, or the cgroup's limit when lower; 0 when unknown.
+double available_memory() {
+  double avail = 0.0;
+  if (std::FILE* f = std::fopen("/proc/meminfo", "r")) {
+    char line[256];
+    while (std::fgets(line, sizeof line, f))
+      if (std::sscanf(line, "MemAvailable: %lf kB", &avail) == 1) {
+        avail *= 1024.0;
+        break;
+      }
+    std::fclose(f);
+  }
+  if (std::FILE* f = std::fopen("/sys/fs/cgroup/memory.max", "r")) {
+    double limit = 0.0;
+    if (std::fscanf(f, "%lf", &limit) == 1 && limit > 0.0 && (avail == 0.0 || limit < avail)) avail = limit;
+    std::fclose(f);
+  }
+  return avail;
+}
+
+// Refuses, before anything is allocated, a model whose memory estimate exceeds what the machine
+// has free: a bad_alloc hours into a set-up, or the OOM killer, says nothing about the cause.
+template <int D>
+void check_memory(const Config& c, const Grid<D>& g) {
+  double particles = 0.0;
+  for (const auto& b : c.bodies) particles += lattice<D>(b, g).total;
+  const double bytes = memory_estimate<D>(static_cast<double>(g.size()), particles);
+  const double avail = available_memory();
+  if (avail > 0.0 && bytes > avail)
+    throw InputError(fmt::format(
+        "{}: the model needs about {:.3g} GB ({:.4g} particles, {:.4g} grid nodes), more than the {:.3g} GB of "
+        "memory available; choose a larger grid.cell_size or fewer bodies.N.particles_per_cell",
+        c.source, bytes / 1e9, particles, static_cast<double>(g.node_count()), avail / 1e9));
+}
+
 // Fills a box with particles on the lattice of spacing h / n per axis, aligned with the grid, so
 // that each particle stands for an equal share of the cell (the paper's "requirement 1").
 template <int D>
 void add_body(const Config& c, int body, Model<D>& m) {
   const BodyConfig& b = c.bodies[body];
   const Material& mat = c.materials[b.material_index];
-  Vec<D> spacing;
-  std::array<int, D> first{}, count{};
-  std::size_t total = 1;
-  int empty_axis = -1;
-  for (int d = 0; d < D; ++d) {
-    spacing[d] = m.grid.h / b.particles_per_cell[d];
-    // Lattice points origin + (j + 1/2) spacing in [min, max) (a box aligned with the lattice
-    // holds exactly its share; the 1e-9 keeps rounding from adding or losing a row).
-    const double lo = (b.min[d] - m.grid.origin[d]) / spacing[d] - 0.5;
-    const double hi = (b.max[d] - m.grid.origin[d]) / spacing[d] - 0.5;
-    first[d] = static_cast<int>(std::ceil(lo - 1e-9));
-    const int last = static_cast<int>(std::floor(hi - 1e-9));
-    count[d] = std::max(0, last - first[d] + 1);
-    total *= static_cast<std::size_t>(count[d]);
-    if (count[d] == 0 && empty_axis < 0) empty_axis = d;
-  }
+  const Lattice<D> l = lattice<D>(b, m.grid);
+  const Vec<D>& spacing = l.spacing;
+  const auto& first = l.first;
+  const auto& count = l.count;
+  const auto total = static_cast<std::size_t>(l.total);
+  const int empty_axis = l.empty_axis;
   if (total == 0) {
     constexpr const char* axis[3] = {"x", "y", "z"};
     const int d = empty_axis;
@@ -173,8 +226,11 @@ void add_body(const Config& c, int body, Model<D>& m) {
       const auto& x = p.x_p[q];
       p.v_p[q][d] = f(x[0], x[1], D == 3 ? x[D - 1] : 0.0);
       if (!std::isfinite(p.v_p[q][d]))
-        throw InputError(fmt::format("{}: key 'bodies.{}.velocity': the formula \"{}\" is not finite at ({}, {})",
-                                     c.source, body, b.velocity_formula[d], x[0], x[1]));
+        throw InputError(fmt::format(
+            "{}: key 'bodies.{}.velocity': expected a finite velocity, got {} from entry {} \"{}\" at particle {} "
+            "({}{})",
+            b.velocity_where.empty() ? c.source : b.velocity_where, body, p.v_p[q][d], d + 1, b.velocity_formula[d], q,
+            fmt::format("{}, {}", x[0], x[1]), D == 3 ? fmt::format(", {}", x[D - 1]) : std::string{}));
     }
   }
   m.body_particles.push_back(total);
@@ -215,6 +271,7 @@ Model<D> build_model(const Config& c) {
   }();
   if (nodes > 2e9)
     throw InputError(fmt::format("{}: the grid has {:.3g} nodes; at most 2e9 are supported", c.source, nodes));
+  check_memory<D>(c, m.grid);
   m.grid.allocate();
   set_boundary_conditions(c, m.grid);
   for (int b = 0; b < static_cast<int>(c.bodies.size()); ++b) add_body(c, b, m);

@@ -35,6 +35,17 @@ struct Model {
   }
 };
 
+// Peak memory of a run in bytes, from its grid slots (Grid::size) and particle count: the model
+// (Model::bytes) plus the block schedule and reordering scratch (peak RSS measured at 1.19 times
+// the model for 1e6 particles, BENCHMARKS.md), plus 32 MB for the program.
+template <int D>
+double memory_estimate(double grid_slots, double particles) {
+  const double model = grid_slots * Grid<D>::bytes_per_slot() + particles * Particles<D>::bytes_per_particle();
+  return 1.25 * model + 32e6;
+}
+
+// Builds the particles and grid; throws InputError (before allocating) when memory_estimate
+// exceeds the memory available.
 template <int D>
 Model<D> build_model(const Config& config);
 

@@ -30,6 +30,8 @@ class ExplicitSolver {
   std::int64_t steps() const { return steps_; }
   Model<D>& model() { return m_; }
   const Model<D>& model() const { return m_; }
+  // "particle ID of body "NAME" at (x, y)", for messages.
+  std::string describe_particle(std::size_t i) const;
 
  private:
   template <class Kernel> void step_with(double dt);
@@ -46,7 +48,6 @@ class ExplicitSolver {
   [[gnu::always_inline]] inline void move_particle(std::size_t i, double dt, Vec<D> vL);
   void apply_deferred_domain_update();
   void report_faults() const;
-  std::string describe_particle(std::size_t i) const;
   static void note_fault(std::int64_t& slot, std::size_t i);
 
   Model<D>& m_;

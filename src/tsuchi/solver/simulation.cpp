@@ -2,6 +2,7 @@
 
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/interrupt.hpp"
+#include "tsuchi/io/atomic_file.hpp"
 #include "tsuchi/io/checkpoint.hpp"
 #include "tsuchi/io/output_writer.hpp"
 #include "tsuchi/solver/recorder.hpp"
@@ -9,25 +10,133 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <string_view>
 #include <cmath>
 
 namespace tsuchi {
 
 double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step, const std::string& source) {
   if (std::isnan(dt_crit))
-    throw RunError(fmt::format("step {}: a particle's velocity, volume or mass is not finite", step + 1),
+    throw RunError("got a non-finite velocity, volume or mass; the run is unstable there: reduce time.courant or "
+                   "time.dt, add solver.damping, or check the material parameters",
                    Fault::NonFinite);
   if (time.courant) return *time.courant * dt_crit;
   if (*time.dt > dt_crit) {
+    // --set cannot remove time.dt from the file, so the advice that works from the command line
+    // is a smaller time.dt; time.courant needs an edit of the file.
     const std::string msg = fmt::format(
-        "time.dt = {:.6g} s is above the stable limit {:.6g} s (cell size / (P-wave speed + particle "
-        "speed)); set time.dt below it, or set time.courant instead",
-        *time.dt, dt_crit);
+        "time.dt = {:.6g} s is above the stable limit {:.6g} s (cell size / (P-wave speed + particle speed)); set "
+        "a smaller time.dt (--set time.dt={:.3g}), or replace time.dt by time.courant in {}",
+        *time.dt, dt_crit, 0.9 * dt_crit, source);
     if (step == 0) throw InputError(fmt::format("{}: {}", source, msg));
-    throw RunError(fmt::format("step {}: {}", step + 1, msg), Fault::UnstableStep);
+    throw RunError(msg, Fault::UnstableStep);
   }
   return *time.dt;
+}
+
+namespace {
+
+// The particle that sets the stable step (largest c_p + |v_p|), or the first with a non-finite
+// state: the one a fault of the time step is about.
+template <int D>
+std::size_t limiting_particle(const Model<D>& m) {
+  const auto& p = m.particles;
+  std::size_t best = 0;
+  double fastest = -1.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double rho = p.m_p[i] / p.V_p[i];
+    const double speed =
+        std::sqrt(m.config.materials[p.material_p[i]].elastic().constrained_modulus() / rho) + p.v_p[i].norm();
+    if (!std::isfinite(speed)) return i;
+    if (speed > fastest) fastest = speed, best = i;
+  }
+  return best;
+}
+
+}  // namespace
+
+RunLength estimate_run_length(const Config& c, double dt, double from_time) {
+  const double end = c.time.end, interval = c.output.interval;
+  const double span = std::max(0.0, end - from_time);
+  // A stretch of length L takes ceil(L / dt) steps: the last one is shortened onto its end (or the
+  // last two split it), as the time loop does.
+  auto steps_over = [&](double L) { return L <= dt * (1.0 + 1e-6) ? (L > 0.0 ? 1.0 : 0.0) : std::ceil(L / dt - 1e-9); };
+  RunLength r;
+  if (interval > 0.0 && interval < end) {
+    const double first = std::floor(from_time / interval) + 1.0;  // the first frame time k * interval after now
+    const double last = std::ceil(end / interval * (1.0 - 1e-12)) - 1.0;  // the last one before end
+    const double full = std::max(0.0, last - first);
+    const double lead = std::min(first * interval, end) - from_time;
+    const double tail = end - std::max(last * interval, from_time);
+    r.steps = full > 0.0 || last >= first ? steps_over(lead) + full * steps_over(interval) + steps_over(tail)
+                                          : steps_over(span);
+    r.frames = (from_time > 0.0 ? 0.0 : 1.0) + std::max(0.0, last - first + 1.0) + 1.0;
+  } else {
+    r.steps = steps_over(span);
+    r.frames = from_time > 0.0 ? 1.0 : 2.0;
+  }
+  if (c.time.max_steps > 0 && r.steps > static_cast<double>(c.time.max_steps)) {
+    r.steps = static_cast<double>(c.time.max_steps);
+    r.frames = std::min(r.frames, r.steps + 1.0);
+  }
+  if (!c.output.write_frames) r.frames = 0.0;
+  return r;
+}
+
+std::optional<StopForecast> forecast_stop(const Config& c) {
+  std::optional<StopForecast> best;
+  for (const auto& r : c.recorders) {
+    if (r.body < 0 || r.quantity.size() != 14 || r.quantity.rfind("displacement_", 0) != 0) continue;
+    const int d = r.quantity.back() - 'x';
+    const BodyConfig& b = c.bodies[static_cast<std::size_t>(r.body)];
+    if (d < 0 || d >= c.dimension || !b.prescribed[d]) continue;
+    if (std::any_of(b.prescribed_gradient[d].begin(), b.prescribed_gradient[d].end(), [](double g) { return g != 0.0; }))
+      continue;
+    // Every particle of the body moves at v0 from t = 0: the column is scale * v0 * t + offset
+    // whatever the reduction (the sum scales with the particle count: left out).
+    if (r.reduction == RecorderConfig::Reduction::Sum) continue;
+    const double rate = r.scale * b.prescribed_velocity[d];
+    for (const auto& bound : {r.stop_above, r.stop_below}) {
+      if (!bound || rate == 0.0) continue;
+      const double t = (*bound - r.offset) / rate;
+      const bool ahead = bound == r.stop_above ? rate > 0.0 : rate < 0.0;
+      if (ahead && t > 0.0 && t < c.time.end && (!best || t < best->time)) best = StopForecast{t, r.name, *bound};
+    }
+  }
+  return best;
+}
+
+void check_run_length(const Config& config, double dt, double from_time) {
+  Config c = config;
+  if (const auto stop = forecast_stop(config)) c.time.end = stop->time;
+  const RunLength r = estimate_run_length(c, dt, from_time);
+  if (c.time.max_steps == 0 && r.steps > default_step_limit)
+    throw InputError(fmt::format(
+        "{}: the run would take about {:.3g} steps of {:.3g} s to time.end = {} s{}, more than the {:.0e} a run "
+        "takes without time.max_steps: check time.end, time.dt{}, the moduli and densities; or set time.max_steps "
+        "to the number of steps you mean to allow",
+        c.source, r.steps, dt, c.time.end,
+        c.output.interval > 0.0 && c.output.interval < c.time.end
+            ? fmt::format(" with a frame every output.interval = {} s", c.output.interval)
+            : std::string{},
+        default_step_limit, c.output.interval > 0.0 ? ", output.interval" : ""));
+  if (r.frames > frame_limit)
+    throw InputError(fmt::format("{}: the run would write about {:.3g} frames (output.interval = {} s to time.end = "
+                                 "{} s), more than {:.0e}; choose a larger output.interval",
+                                 c.source, r.frames, c.output.interval, c.time.end, frame_limit));
+}
+
+std::string shell_word(const std::string& w) {
+  const bool plain = !w.empty() && std::all_of(w.begin(), w.end(), [](unsigned char ch) {
+    return std::isalnum(ch) || std::string_view("/._-+=,:@%").find(static_cast<char>(ch)) != std::string_view::npos;
+  });
+  if (plain) return w;
+  std::string r = "'";
+  for (const char ch : w) r += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+  return r + "'";
 }
 
 std::string checkpoint_path(const Config& config, const std::string& output_directory) {
@@ -51,28 +160,50 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   // Particle sets are chosen on the initial state, before a checkpoint replaces it.
   std::vector<Recorder<D>> recorders;
   for (const auto& rc : model.config.recorders) recorders.emplace_back(rc, model);
+  // Where each recorder with a stop bound starts (the initial state, also for a restart), for the
+  // progress it makes towards the bound.
+  std::vector<double> recorder_start(recorders.size(), 0.0);
+  for (std::size_t k = 0; k < recorders.size(); ++k)
+    if (recorders[k].config().stop_above || recorders[k].config().stop_below)
+      recorder_start[k] = recorders[k].value(model.particles);
+  if (options.write_output) check_output_paths(model.config, dir, ck_path);
   RunProgress start;
   if (options.restart) {
     start = read_checkpoint<D>(*options.restart, model);
+    // Past the end there is nothing to run, and a last frame there would lie beyond time.end.
+    if (start.time > end * (1.0 + 1e-12))
+      throw InputError(fmt::format("{}: the checkpoint {} is at t = {:.9g} s, past time.end = {:.9g} s: nothing to "
+                                   "run; give a later time.end (--set time.end=...)",
+                                   model.config.source, *options.restart, start.time, end));
     solver.resume(start.time, start.steps);
   }
   // Check the first step before anything is written: a refused dt leaves the directory untouched.
   double dt = next_time_step(tc, critical_time_step<D>(model.particles, model.config.materials, model.grid.h),
                              0, model.config.source);
+  check_run_length(model.config, dt, start.time);
   if (options.restart && start.steps > 0) dt = start.dt;  // only for a final row; every later step recomputes it
 
   std::optional<OutputWriter<D>> out;
   if (options.write_output) {
-    out.emplace(model, dir, recorders);
-    if (options.restart) {
-      out->restore(start.output);
-    } else {
+    out.emplace(model, dir, recorders, options.restart ? &start.output : nullptr);
+    prepare_checkpoint_directory(ck_path);  // a checkpoint hours later must not be the first to find it unwritable
+    if (!options.restart) {
       out->global_row(0.0, 0, 0.0);
       out->frame(0.0);
     }
   }
   std::string stopped_by;
-  std::int64_t frame_index = start.frame_index, row_index = start.row_index;
+  std::int64_t frame_index = start.frame_index, row_index = start.row_index, label_index = start.label_index;
+  // Frames by a recorder's value (output.label_interval): one after the step that passes each
+  // multiple k * label_interval, as rows of global.csv follow global_interval.
+  const Recorder<D>* label = oc.frame_label_recorder >= 0 ? &recorders[static_cast<std::size_t>(oc.frame_label_recorder)] : nullptr;
+  auto label_due = [&](double value) {
+    return label && oc.label_interval > 0.0 && value >= oc.label_interval * static_cast<double>(label_index);
+  };
+  auto next_label = [&](double value) {
+    label_index = static_cast<std::int64_t>(std::floor(value / oc.label_interval)) + 1;
+  };
+  if (!options.restart && label && oc.label_interval > 0.0) next_label(label->value(model.particles));
   auto frame_time = [&](std::int64_t k) { return oc.interval > 0 ? std::min(end, static_cast<double>(k) * oc.interval) : end; };
   // A restart may come with another output interval or end time: skip frame times already past.
   while (frame_time(frame_index) <= start.time && frame_time(frame_index) < end) ++frame_index;
@@ -89,7 +220,11 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   // continues exactly as the run would have.
   auto save = [&] {
     if (!out) return;
-    RunProgress now{solver.time(), solver.steps(), dt, frame_index, row_index, last_frame, last_row, out->history()};
+    out->flush_global(true);  // the rows the checkpoint names are on disk before it
+    RunProgress now;
+    now.time = solver.time(), now.steps = solver.steps(), now.dt = dt;
+    now.frame_index = frame_index, now.row_index = row_index, now.label_index = label_index;
+    now.last_frame = last_frame, now.last_row = last_row, now.output = out->history();
     write_checkpoint<D>(ck_path, model, now);
     last_checkpoint = clock::now();
     saved = {solver.steps(), ck_path};
@@ -104,12 +239,15 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
           dt = next_time_step(tc, critical_time_step<D>(model.particles, model.config.materials, model.grid.h),
                               solver.steps(), model.config.source);
         } catch (const RunError& e) {
+          const RunError located(fmt::format("step {} (t = {:.6g} s): {}: {}", solver.steps() + 1, solver.time(),
+                                             solver.describe_particle(limiting_particle(model)), e.what()),
+                                 e.fault);
           // The state is still that of a good step: worth saving for a restart with a smaller dt.
           if (e.fault == Fault::UnstableStep && out) {
             save();
             if (solver.time() > last_frame) out->frame(solver.time());
           }
-          throw;
+          throw located;
         }
       }
       // Land exactly on the next frame (or the end); split the approach in two equal steps rather
@@ -142,26 +280,42 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
           last_flush = clock::now();
         }
       }
-      if (now >= next_frame - tol) {
+      const double label_value = label && oc.label_interval > 0.0 ? label->value(model.particles) : 0.0;
+      const bool by_label = label_due(label_value);
+      if (now >= next_frame - tol || by_label) {
         if (out) {
           out->frame(now);
           last_frame = now;
         }
         while (next_frame <= now + tol && next_frame < end) next_frame = frame_time(++frame_index);
+        if (by_label) next_label(label_value);
       }
-      if (options.on_progress)
-        options.on_progress({solver.steps(), now, end, dt, out ? out->frames_written() : 0});
-      for (const auto& r : recorders) {
-        if (!r.config().stop_above && !r.config().stop_below) continue;  // evaluated on output rows only
-        stopped_by = r.stop_reason(r.value(model.particles));
-        if (!stopped_by.empty()) break;
+      Progress progress;
+      progress.step = solver.steps(), progress.time = now, progress.end_time = end, progress.dt = dt;
+      progress.frames = out ? out->frames_written() : 0;
+      progress.fraction = end > 0.0 ? std::clamp(now / end, 0.0, 1.0) : 1.0;
+      for (std::size_t k = 0; k < recorders.size(); ++k) {
+        const auto& r = recorders[k];
+        const auto& rc = r.config();
+        if (!rc.stop_above && !rc.stop_below) continue;  // evaluated on output rows only
+        const double value = r.value(model.particles);
+        // The way from the start value to each bound that lies ahead of it.
+        for (const auto& [bound, sign] : {std::pair{rc.stop_above, 1.0}, std::pair{rc.stop_below, -1.0}}) {
+          if (!bound || sign * (*bound - recorder_start[k]) <= 0.0) continue;
+          const double f = std::clamp((value - recorder_start[k]) / (*bound - recorder_start[k]), 0.0, 1.0);
+          if (f > progress.fraction)
+            progress.fraction = f, progress.leader = rc.name, progress.leader_value = value, progress.leader_bound = *bound;
+        }
+        if (stopped_by.empty()) stopped_by = r.stop_reason(value);
       }
+      if (!stopped_by.empty()) progress.fraction = 1.0;
+      if (options.on_progress) options.on_progress(progress);
       if (const int sig = pending_interrupt()) {
         save();
-        if (out) out->flush_global();
+        interrupt_saved();
         throw Interrupted(
-            out ? fmt::format("signal {} at step {} (t = {:.6g} s); the state is saved in {}; continue with --restart {}",
-                              sig, solver.steps(), now, ck_path, ck_path)
+            out ? fmt::format("signal {} at step {} (t = {:.6g} s); the state is saved in {}; continue with {} --restart {}",
+                              sig, solver.steps(), now, ck_path, options.resume_command, shell_word(ck_path))
                 : fmt::format("signal {} at step {} (t = {:.6g} s)", sig, solver.steps(), now),
             sig);
       }
@@ -175,8 +329,12 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   } catch (const RunError& e) {
     if (out) out->flush_global();  // keep the history up to the failure
     if (saved.first < 0) throw;
-    throw RunError(fmt::format("{}\nthe latest checkpoint is step {}: {} (tsuchi run ... --restart {})", e.what(),
-                               saved.first, saved.second, saved.second),
+    throw RunError(fmt::format("{}\nthe latest checkpoint is step {}: {} (continue with {}{} --restart {})", e.what(),
+                               saved.first, saved.second, options.resume_command,
+                               e.fault == Fault::UnstableStep && model.config.time.dt
+                                   ? fmt::format(" --set time.dt={:.3g}", 0.5 * *model.config.time.dt)
+                                   : std::string{},
+                               shell_word(saved.second)),
                    e.fault);
   } catch (const OutputError& e) {
     try {

@@ -16,6 +16,11 @@ struct Progress {
   double end_time = 0.0;
   double dt = 0.0;
   std::size_t frames = 0;
+  // How far the run is, 0 to 1: by time, or by a recorder's way from its start value to its stop
+  // bound when that is further along (a run a recorder will stop long before time.end).
+  double fraction = 0.0;
+  std::string leader;  // the recorder that gives `fraction`, or "" when the time does
+  double leader_value = 0.0, leader_bound = 0.0;
 };
 
 struct RunOptions {
@@ -23,6 +28,9 @@ struct RunOptions {
   std::function<void(const Progress&)> on_progress;  // called after every step
   bool write_output = true;
   std::optional<std::string> restart;  // checkpoint to continue from
+  // The command that continues this run from its checkpoint, less the checkpoint: the program,
+  // the input, -o and every --set of this run ("tsuchi run m.toml -o out --set ..."), for messages.
+  std::string resume_command = "tsuchi run ...";
 };
 
 struct RunSummary {
@@ -35,12 +43,43 @@ struct RunSummary {
   std::string checkpoint;  // the final checkpoint, when the input asks for checkpoints
 };
 
+// A word for a POSIX shell: as it is when it holds nothing the shell would read, else in single
+// quotes (for the commands that messages suggest).
+std::string shell_word(const std::string& word);
+
 // Where the checkpoint of a run writing to `output_directory` goes.
 std::string checkpoint_path(const Config& config, const std::string& output_directory);
 
 // The step size for the next step from the time settings and the current critical step;
 // throws InputError (at step 0) or RunError (later) if a fixed dt exceeds the stable limit.
 double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step, const std::string& source);
+
+// How long a run is: steps and frames from `from_time` to time.end with a first step `dt`,
+// counting the shortened steps that land on every frame time, and time.max_steps when set.
+struct RunLength {
+  double steps = 0.0;
+  double frames = 0.0;
+};
+RunLength estimate_run_length(const Config& config, double dt, double from_time = 0.0);
+
+// When a recorder's stop bound will end the run, where that is foreseeable: a recorder of the
+// displacement of a body whose velocity along that axis is prescribed (a platen) changes at a known
+// rate. The earliest such time before time.end, or nothing.
+struct StopForecast {
+  double time = 0.0;
+  std::string recorder;
+  double bound = 0.0;
+};
+std::optional<StopForecast> forecast_stop(const Config& config);
+
+// Without time.max_steps a run may take at most this many steps; and no run more frames than this.
+inline constexpr double default_step_limit = 1e8;
+inline constexpr double frame_limit = 1e5;
+
+// Refuses (InputError) a run that cannot finish: more steps than default_step_limit without an
+// explicit time.max_steps, or more frames than frame_limit; counted to the forecast stop when
+// there is one.
+void check_run_length(const Config& config, double dt, double from_time = 0.0);
 
 template <int D>
 RunSummary run_simulation(Model<D>& model, const RunOptions& options,

@@ -1,0 +1,229 @@
+#!/usr/bin/env python3
+"""Nothing lost (issue 13, items 1, 2, 4 and 13): outputs that would overwrite the input or each
+other are refused before anything is written; a second run into a busy output directory stops at
+once with exit 4 and the first run's process id, and the first run ends as if alone; frames of an
+earlier run do not survive into a new one; global.csv is appended to, so memory and checkpoint
+size do not grow with the number of rows; a restart into another directory, or past its end time,
+is refused.
+
+usage: output_safety_test.py TSUCHI_BINARY
+"""
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import xml.etree.ElementTree as ET
+
+INPUT = """
+[model]
+dimension = 2
+gravity = [0.0, -9.81]
+
+[grid]
+extent = [0.4, 1.0]
+cell_size = 0.05
+
+[[materials]]
+name = "soil"
+model = "linear_elastic"
+density = 1800.0
+youngs_modulus = 2.0e6
+poisson_ratio = 0.3
+
+[[bodies]]
+name = "column"
+material = "soil"
+min = [0.1, 0.0]
+max = [0.3, 0.6]
+velocity = [0.3, 0.0]
+
+[boundary]
+y_min = "fixed"
+
+[time]
+end = 100.0
+max_steps = 3000
+
+[output]
+interval = 0.5
+global_interval = 0.0
+fields = ["displacement", "stress"]
+
+[[recorders]]
+name = "top_v"
+min = [0.0, 0.55]
+quantity = "velocity_y"
+"""
+
+failures = []
+
+
+def check(cond, msg):
+    if not cond:
+        failures.append(msg)
+        print("FAIL:", msg)
+
+
+def run(binary, *args, wait=True, cwd=None):
+    p = subprocess.Popen([binary, "run", "-q", *args], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                         cwd=cwd)
+    if not wait:
+        return p
+    out, _ = p.communicate(timeout=120)
+    return p.returncode, out
+
+
+def files(d):
+    return {n: open(os.path.join(d, n), "rb").read() for n in sorted(os.listdir(d))
+            if os.path.isfile(os.path.join(d, n))}
+
+
+def rss_kb(pid):
+    try:
+        for line in open(f"/proc/{pid}/status"):
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1])
+    except OSError:
+        pass
+    return None
+
+
+def main():
+    binary = os.path.abspath(sys.argv[1])
+    sanitized = b"__asan_init" in open(binary, "rb").read()
+    tmp = tempfile.mkdtemp(prefix="tsuchi_output_safety_")
+    try:
+        inp = os.path.join(tmp, "m.toml")
+        open(inp, "w").write(INPUT)
+
+        # 1. A checkpoint path that is the input file or another output is refused before anything
+        #    is written, naming the key; a nested folder is created before step 1; an unwritable one
+        #    stops the run before step 1 with exit 4.
+        out = os.path.join(tmp, "o1")
+        for value, text in [("particles.pvd", "one of the run's output files"),
+                            ("global.csv", "one of the run's output files"),
+                            ("particles_000003.vtu", "one of the run's output files"),
+                            (".", "that is the output directory"),
+                            (inp, "is the input file")]:
+            code, msg = run(binary, inp, "-o", out, "--set", f'checkpoint.file="{value}"')
+            check(code == 2, f"checkpoint.file = {value!r}: exit {code}, expected 2: {msg}")
+            check("key 'checkpoint.file'" in msg and text in msg and "(command-line override)" in msg,
+                  f"checkpoint.file = {value!r}: message {msg!r}")
+            check(not os.path.exists(out), f"checkpoint.file = {value!r}: the refused run wrote {out}")
+            c = subprocess.run([binary, "check", inp, "--set", f'checkpoint.file="{value}"', "--set",
+                                f'output.directory="{out}"'], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            check(c.returncode == 2 and text in c.stdout, f"check, checkpoint.file = {value!r}: exit {c.returncode}: {c.stdout}")
+        check(open(inp).read() == INPUT, "the input file was changed")
+        code, msg = run(binary, inp, "-o", out, "--set", 'checkpoint.file="sub/dir/x"', "--set", "time.max_steps=20",
+                        "--set", "checkpoint.every_steps=10")
+        check(code == 0 and os.path.isfile(os.path.join(out, "sub", "dir", "x")),
+              f"checkpoint.file = 'sub/dir/x': exit {code}, the checkpoint is not there: {msg}")
+        shutil.rmtree(out)
+        code, msg = run(binary, inp, "-o", out, "--set", 'checkpoint.file="/dev/null/x"')
+        check(code == 4 and "/dev/null" in msg and "checkpoint" in msg,
+              f"an unwritable checkpoint folder: exit {code}, expected 4 at once: {msg}")
+        check(not os.path.exists(os.path.join(out, "particles_000001.vtu")),
+              "an unwritable checkpoint folder was found only after steps were taken")
+
+        # 2. Two runs into one directory: the second stops within a second with exit 4 and the
+        #    first's process id; the first ends byte-identical to a run alone.
+        solo = os.path.join(tmp, "solo")
+        code, msg = run(binary, inp, "-o", solo)
+        check(code == 0, f"solo run: exit {code}: {msg}")
+        shared = os.path.join(tmp, "shared")
+        first = run(binary, inp, "-o", shared, wait=False)
+        lock = os.path.join(shared, ".tsuchi.lock")
+        deadline = time.time() + 10
+        while not (os.path.exists(lock) and open(lock).read().strip()) and time.time() < deadline:
+            time.sleep(0.005)
+        check(first.poll() is None, "the first run ended before the second started: make it longer")
+        t0 = time.time()
+        code, msg = run(binary, inp, "-o", shared)
+        took = time.time() - t0
+        out1, _ = first.communicate(timeout=120)
+        print(f"second run into a busy directory: exit {code} after {took:.3f} s")
+        check(code == 4 and took < 1.0 and f"process id {first.pid}" in msg,
+              f"the second run: exit {code} after {took:.2f} s: {msg}")
+        check(first.returncode == 0, f"the first run: exit {first.returncode}: {out1}")
+        a, b = files(solo), files(shared)
+        check(sorted(a) == sorted(b), f"files differ: {sorted(a)} vs {sorted(b)}")
+        check(all(a[n] == b.get(n) for n in a), "the first run's output differs from the solo run")
+        check(not os.path.exists(lock), "the lock file outlives the run")
+
+        # A lock left by a dead process is taken over.
+        open(lock, "w").write("999999999\n")
+        code, msg = run(binary, inp, "-o", shared, "--set", "time.max_steps=10")
+        check(code == 0, f"a stale lock stopped the run: exit {code}: {msg}")
+
+        # Frames of an earlier run are removed: 7 frames, then a run of 3 frames leaves 3.
+        d = os.path.join(tmp, "rerun")
+        run(binary, inp, "-o", d)
+        before = sorted(n for n in os.listdir(d) if n.endswith(".vtu"))
+        code, msg = run(binary, inp, "-o", d, "--set", "time.max_steps=250", "--set", "output.interval=1.0",
+                        "--set", "output.frames=true")
+        after = sorted(n for n in os.listdir(d) if n.endswith(".vtu"))
+        listed = [e.get("file") for e in ET.parse(os.path.join(d, "particles.pvd")).getroot().iter("DataSet")]
+        check(len(before) > len(after) and after == listed,
+              f"stale frames: {len(before)} frames, then {after} on disk and {listed} in the .pvd")
+        code, msg = run(binary, inp, "-o", d, "--set", "time.max_steps=250", "--set", "output.frames=false",
+                        "--set", "recorders.0.name=\"w\"")
+        check(not [n for n in os.listdir(d) if n.endswith(".vtu") or n.endswith(".pvd")],
+              f"a run without frames left the earlier run's frames: {sorted(os.listdir(d))}")
+
+        # 4. global.csv is appended to: a checkpoint after 20,000 rows is as large as one after
+        #    2,000, and the resident memory does not grow with the rows.
+        sizes = []
+        for steps in (2000, 20000):
+            d = os.path.join(tmp, f"rows{steps}")
+            p = run(binary, inp, "-o", d, "--set", f"time.max_steps={steps}", "--set", "checkpoint.every_steps=1000",
+                    "--set", "output.frames=false", wait=False)
+            samples = []
+            while p.poll() is None:
+                r = rss_kb(p.pid)
+                rows = 0
+                try:
+                    rows = os.path.getsize(os.path.join(d, "global.csv")) // 150
+                except OSError:
+                    pass
+                if r and rows >= 1000:
+                    samples.append(r)
+                time.sleep(0.02)
+            out, _ = p.communicate()
+            check(p.returncode == 0, f"{steps} steps: exit {p.returncode}: {out}")
+            sizes.append(os.path.getsize(os.path.join(d, "checkpoint.tsuchi")))
+            rows = open(os.path.join(d, "global.csv")).read().count("\n")
+            check(rows == steps + 2, f"{steps} steps: global.csv has {rows} lines, expected {steps + 2}")
+            if steps == 20000 and sanitized:
+                print("sanitized binary: resident memory not compared (AddressSanitizer keeps freed memory)")
+            elif steps == 20000 and len(samples) >= 3:
+                print(f"resident memory: {samples[0]} kB after ~1000 rows, {samples[-1]} kB at the end")
+                check(samples[-1] <= 1.1 * samples[0], f"resident memory grew from {samples[0]} to {samples[-1]} kB")
+        print(f"checkpoint sizes after 2,000 and 20,000 rows: {sizes}")
+        check(sizes[0] == sizes[1], f"the checkpoint grows with the rows: {sizes}")
+
+        # 13. A restart into another directory, or whose end time has passed, is refused.
+        d = os.path.join(tmp, "split")
+        run(binary, inp, "-o", d, "--set", "time.max_steps=100", "--set", "checkpoint.every_steps=100")
+        ck = os.path.join(d, "checkpoint.tsuchi")
+        other = os.path.join(tmp, "elsewhere")
+        code, msg = run(binary, inp, "-o", other, "--restart", ck)
+        check(code == 2 and "restart into the output directory of the checkpointed run" in msg,
+              f"a restart into another directory: exit {code}: {msg}")
+        snapshot = files(d)
+        code, msg = run(binary, inp, "-o", d, "--restart", ck, "--set", "time.end=0.01")
+        check(code == 2 and "past time.end = 0.01 s" in msg, f"a restart past its end: exit {code}: {msg}")
+        check(files(d) == snapshot, "a refused restart changed the output directory")
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    if failures:
+        print(f"{len(failures)} failures")
+        sys.exit(1)
+    print("ok")
+
+
+if __name__ == "__main__":
+    main()

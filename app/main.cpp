@@ -151,6 +151,8 @@ int dispatch(bool run_it, const Options& o) {
   if (o.threads > 0) omp_set_num_threads(o.threads);
   const Config c = read_config_file(o.file, o.overrides);
   for (const auto& w : c.warnings) fmt::print(stderr, "warning: {}\n", w);
+  // A busy output directory stops a run before it builds its model (which may take long).
+  if (run_it) DirectoryLock::refuse_if_held(o.output.empty() ? c.output.directory : o.output);
   if (c.dimension == 2) return run_it ? run<2>(c, o) : check<2>(c);
   return run_it ? run<3>(c, o) : check<3>(c);
 }

@@ -132,17 +132,18 @@ def main():
         # 2. Two runs into one directory: the second stops within a second with exit 4 and the
         #    first's process id; the first ends byte-identical to a run alone.
         solo = os.path.join(tmp, "solo")
-        code, msg = run(binary, inp, "-o", solo)
+        long = ["--set", "time.max_steps=12000", "--set", "output.global_interval=0.01"]  # about a second
+        code, msg = run(binary, inp, "-o", solo, *long)
         check(code == 0, f"solo run: exit {code}: {msg}")
         shared = os.path.join(tmp, "shared")
-        first = run(binary, inp, "-o", shared, wait=False)
+        first = run(binary, inp, "-o", shared, *long, wait=False)
         lock = os.path.join(shared, ".tsuchi.lock")
         deadline = time.time() + 10
         while not (os.path.exists(lock) and open(lock).read().strip()) and time.time() < deadline:
             time.sleep(0.005)
         check(first.poll() is None, "the first run ended before the second started: make it longer")
         t0 = time.time()
-        code, msg = run(binary, inp, "-o", shared)
+        code, msg = run(binary, inp, "-o", shared, *long)
         took = time.time() - t0
         out1, _ = first.communicate(timeout=120)
         print(f"second run into a busy directory: exit {code} after {took:.3f} s")

@@ -15,6 +15,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <regex>
@@ -134,6 +136,22 @@ TEST(Restart, MohrCoulombTriaxialContinuesBitwise) {
   expect_bitwise_restart(c, tmp, 900, 1500);
   const std::string rec = read_bytes(tmp.path / "parts" / "recorders.csv");
   EXPECT_NE(rec.find(",1500,"), std::string::npos) << "the restarted run reaches step 1500";
+}
+
+// Frames labelled and scheduled by a recorder (output.frame_label, output.label_interval): the
+// next label frame is part of the checkpoint, so a restart writes the same frames and .pvd.
+TEST(Restart, FramesByRecorderContinueBitwise) {
+  TempDir tmp("tsuchi_restart");
+  const Case c{std::string(TSUCHI_SOURCE_DIR) + "/examples/triaxial/test1_fixed.toml",
+               {"grid.cell_size=0.005", "recorders.1.max=[1.0,0.0025]", "recorders.2.max=[1.0,0.0025]",
+                "output.interval=0", "output.frame_label='\"axial_strain\"'", "output.label_interval=0.002",
+                "'output.fields=[\"id\",\"max_shear_strain\"]'"}};
+  expect_bitwise_restart(c, tmp, 700, 1200);
+  std::ifstream in(tmp.path / "parts" / "particles.pvd");
+  const std::string pvd{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  std::size_t frames = 0;
+  for (auto at = pvd.find("<DataSet"); at != std::string::npos; at = pvd.find("<DataSet", at + 1)) ++frames;
+  EXPECT_GE(frames, 5u) << pvd;  // t = 0, every 0.2 % of axial strain, and the end
 }
 
 class RefusedRestart : public ::testing::Test {

@@ -18,6 +18,10 @@ class DirectoryLock {
 
   static constexpr const char* file_name = ".tsuchi.lock";
 
+  // Throws the OutputError of the constructor when another run holds the directory's lock, without
+  // creating or changing anything: a second run can stop before it builds a large model.
+  static void refuse_if_held(const std::string& dir);
+
  private:
   int fd_ = -1;
   std::string path_;

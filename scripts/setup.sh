@@ -21,4 +21,4 @@ echo "  recorders.csv       axial strain, vertical stress and q of the bottom ro
 echo "  global.csv          energies, mass and momentum per time"
 echo "  shear_strain.png    maximum shear strain of the deformed specimen at 2, 5, 10, 15 %"
 echo "  ../stress_strain.png  q against axial strain, with the Mohr-Coulomb peak"
-echo "all six cases and the report: /usr/bin/python3 examples/triaxial/study.py (about 10 min on 2 cores)"
+echo "all six cases and the report: /usr/bin/python3 examples/triaxial/study.py (about 3 min on 2 cores)"

@@ -18,7 +18,7 @@ struct Grid {
 
   // Nodes are stored in tiles of T^D nodes (4 x 4 in 2D, 4 x 4 x 4 in 3D), tile after tile, and
   // lexicographically inside a tile. A tile is the node set of one block of the particle schedule
-  // (solver/block_schedule.hpp), so a block's particles scatter mostly into one contiguous piece of
+  // (grid/block_schedule.hpp), so a block's particles scatter mostly into one contiguous piece of
   // memory, and a later split of the grid over processes can hand over whole tiles. The grid is
   // padded to whole tiles; padding nodes never receive mass and are skipped by the solver.
   static constexpr int T = 4;

@@ -4,7 +4,7 @@
 #include "tsuchi/core/expression.hpp"
 #include "tsuchi/model/imperfection.hpp"
 #include "tsuchi/model/initial_stress.hpp"
-#include "tsuchi/solver/block_schedule.hpp"
+#include "tsuchi/grid/block_schedule.hpp"
 #include "tsuchi/solver/recorder.hpp"
 
 #include <fmt/format.h>

@@ -7,7 +7,7 @@
 // Every stage evaluates S and G at the positions of the start of the step: particles move only in
 // the last stage.
 #include "tsuchi/model/model.hpp"
-#include "tsuchi/solver/block_schedule.hpp"
+#include "tsuchi/grid/block_schedule.hpp"
 
 #include <cstdint>
 #include <string>

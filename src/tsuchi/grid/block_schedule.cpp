@@ -1,4 +1,4 @@
-#include "tsuchi/solver/block_schedule.hpp"
+#include "tsuchi/grid/block_schedule.hpp"
 
 #include <algorithm>
 #include <array>

@@ -51,16 +51,27 @@ void write_file_atomically(const std::string& path, std::string_view contents) {
   }
 }
 
+namespace {
+
+// Creates `dir` with its parents if need be, and checks that it is writable; `what` names it in
+// the message ("the output directory out/").
+void create_writable_directory(const fs::path& dir, const std::string& what) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw OutputError(fmt::format("cannot create {}: {}", what, ec.message()));
+  if (::access(dir.c_str(), W_OK) != 0)
+    throw OutputError(fmt::format("{} is not writable: {}", what, std::strerror(errno)));
+}
+
+}  // namespace
+
 void prepare_output_directory(const std::string& dir) {
   std::error_code ec;
   if (fs::is_symlink(fs::symlink_status(dir, ec)) && !fs::exists(dir, ec))
     throw OutputError(fmt::format("cannot create the output directory {}: it is a symbolic link to {}, which does not "
                                   "exist; create that directory or remove the link",
                                   dir, fs::read_symlink(dir, ec).string()));
-  fs::create_directories(dir, ec);
-  if (ec) throw OutputError(fmt::format("cannot create the output directory {}: {}", dir, ec.message()));
-  if (::access(dir.c_str(), W_OK) != 0)
-    throw OutputError(fmt::format("the output directory {} is not writable: {}", dir, std::strerror(errno)));
+  create_writable_directory(dir, fmt::format("the output directory {}", dir));
   // Temporary files of a run that was killed mid-write; those of a live process are left alone.
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     const std::string name = entry.path().filename().string();
@@ -74,14 +85,7 @@ void prepare_output_directory(const std::string& dir) {
 void prepare_checkpoint_directory(const std::string& checkpoint_file) {
   fs::path dir = fs::path(checkpoint_file).parent_path();
   if (dir.empty()) dir = ".";
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec)
-    throw OutputError(fmt::format("cannot create the directory {} of the checkpoint file {}: {}", dir.string(),
-                                  checkpoint_file, ec.message()));
-  if (::access(dir.c_str(), W_OK) != 0)
-    throw OutputError(fmt::format("the directory {} of the checkpoint file {} is not writable: {}", dir.string(),
-                                  checkpoint_file, std::strerror(errno)));
+  create_writable_directory(dir, fmt::format("the directory {} of the checkpoint file {}", dir.string(), checkpoint_file));
 }
 
 }  // namespace tsuchi

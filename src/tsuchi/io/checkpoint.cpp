@@ -203,23 +203,33 @@ void write_checkpoint(const std::string& path, const Model<D>& model, const RunP
   write_file_atomically(path, e.bytes());
 }
 
+struct Header {
+  std::uint64_t fingerprint = 0, particles = 0;
+};
+
+// The first header_size bytes (of `bytes`, which may hold more): magic, format version and
+// dimension checked, the input fingerprint and the particle count returned.
 template <int D>
-RunProgress decode_checkpoint(std::string_view bytes, const std::string& source, Model<D>& model, bool verify_checksum) {
-  const auto fail = [&](const std::string& what) { refuse(source, what); };
-  if (bytes.size() < header_size + 4 || std::memcmp(bytes.data(), magic, sizeof magic) != 0)
-    fail("it does not start like a tsuchi checkpoint");
-  auto header = [&](std::size_t at, auto v) {
+Header read_header(std::string_view bytes, const std::string& source) {
+  if (bytes.size() < header_size || std::memcmp(bytes.data(), magic, sizeof magic) != 0)
+    refuse(source, "it does not start like a tsuchi checkpoint");
+  auto field = [&](std::size_t at, auto v) {
     std::memcpy(&v, bytes.data() + at, sizeof v);
     return v;
   };
-  const auto version = header(8, std::uint32_t{});
-  const auto dim = header(12, std::uint32_t{});
-  const auto fp = header(16, std::uint64_t{});
-  const auto count = header(24, std::uint64_t{});
+  const auto version = field(8, std::uint32_t{});
+  const auto dim = field(12, std::uint32_t{});
   if (version != checkpoint_version)
-    fail(fmt::format("it has format version {}, this program reads version {}", version, checkpoint_version));
-  if (dim != static_cast<std::uint32_t>(D))
-    fail(fmt::format("it holds a {}D model, the input is {}D", dim, D));
+    refuse(source, fmt::format("it has format version {}, this program reads version {}", version, checkpoint_version));
+  if (dim != static_cast<std::uint32_t>(D)) refuse(source, fmt::format("it holds a {}D model, the input is {}D", dim, D));
+  return {field(16, std::uint64_t{}), field(24, std::uint64_t{})};
+}
+
+template <int D>
+RunProgress decode_checkpoint(std::string_view bytes, const std::string& source, Model<D>& model, bool verify_checksum) {
+  const auto fail = [&](const std::string& what) { refuse(source, what); };
+  if (bytes.size() < header_size + 4) fail("it does not start like a tsuchi checkpoint");
+  const auto [fp, count] = read_header<D>(bytes, source);
   const std::string_view body = bytes.substr(header_size, bytes.size() - header_size - 4);
   std::uint32_t stored_crc = 0;
   std::memcpy(&stored_crc, bytes.data() + bytes.size() - 4, 4);
@@ -281,16 +291,8 @@ RunProgress read_checkpoint(const std::string& path, Model<D>& model) {
   if (::fstat(::fileno(f), &st) != 0 || !S_ISREG(st.st_mode))
     refuse(path, "it is not a regular file (a directory, device or pipe)");
   std::string bytes(header_size, '\0');
-  if (std::fread(bytes.data(), 1, header_size, f) != header_size || std::memcmp(bytes.data(), magic, sizeof magic) != 0)
-    refuse(path, "it does not start like a tsuchi checkpoint");
-  std::uint32_t version = 0, dim = 0;
-  std::uint64_t count = 0;
-  std::memcpy(&version, bytes.data() + 8, 4);
-  std::memcpy(&dim, bytes.data() + 12, 4);
-  std::memcpy(&count, bytes.data() + 24, 8);
-  if (version != checkpoint_version)
-    refuse(path, fmt::format("it has format version {}, this program reads version {}", version, checkpoint_version));
-  if (dim != static_cast<std::uint32_t>(D)) refuse(path, fmt::format("it holds a {}D model, the input is {}D", dim, D));
+  const std::size_t got = std::fread(bytes.data(), 1, header_size, f);
+  const std::uint64_t count = read_header<D>(std::string_view(bytes).substr(0, got), path).particles;
   if (count != model.particles.size())
     refuse(path, fmt::format("it holds {} particles, the input makes {}", count, model.particles.size()));
   // Every section but the frame list is a fixed size per particle; 64 bytes per frame listed.

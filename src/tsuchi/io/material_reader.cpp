@@ -7,10 +7,7 @@ namespace tsuchi::io {
 namespace {
 
 void warn(const Section& s, std::vector<std::string>* warnings, std::string_view key, const std::string& msg) {
-  if (!warnings) return;
-  const toml::node* n = s.raw().get(key);
-  warnings->push_back(fmt::format("{}: key '{}': {}", where(s.file(), n ? n->source() : s.raw().source()),
-                                  s.key_path(key), msg));
+  if (warnings) warnings->push_back(s.located(key, msg));
 }
 
 // Soil moduli are MPa to GPa: below 1 kPa, a value was most likely given in kPa or MPa.

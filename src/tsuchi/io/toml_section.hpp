@@ -92,10 +92,15 @@ class Section {
     return path_.empty() ? printable(key) : fmt::format("{}.{}", path_, printable(key));
   }
 
-  [[noreturn]] void fail(std::string_view key, const std::string& msg) const {
+  // "FILE:LINE:COLUMN: key 'PATH': msg", at the key's value, or at the table when it is absent.
+  std::string located(std::string_view key, const std::string& msg) const {
     const toml::node* n = t_.get(key);
     const auto& region = n ? n->source() : t_.source();
-    throw InputError(fmt::format("{}: key '{}': {}", where(file_, region), key_path(key), msg));
+    return fmt::format("{}: key '{}': {}", where(file_, region), key_path(key), msg);
+  }
+
+  [[noreturn]] void fail(std::string_view key, const std::string& msg) const {
+    throw InputError(located(key, msg));
   }
 
   [[noreturn]] void fail_here(const std::string& msg) const {

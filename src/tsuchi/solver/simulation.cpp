@@ -37,27 +37,6 @@ double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step,
   return *time.dt;
 }
 
-namespace {
-
-// The particle that sets the stable step (largest c_p + |v_p|), or the first with a non-finite
-// state: the one a fault of the time step is about.
-template <int D>
-std::size_t limiting_particle(const Model<D>& m) {
-  const auto& p = m.particles;
-  std::size_t best = 0;
-  double fastest = -1.0;
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    const double rho = p.m_p[i] / p.V_p[i];
-    const double speed =
-        std::sqrt(m.config.materials[p.material_p[i]].elastic().constrained_modulus() / rho) + p.v_p[i].norm();
-    if (!std::isfinite(speed)) return i;
-    if (speed > fastest) fastest = speed, best = i;
-  }
-  return best;
-}
-
-}  // namespace
-
 RunLength estimate_run_length(const Config& c, double dt, double from_time) {
   const double end = c.time.end, interval = c.output.interval;
   const double span = std::max(0.0, end - from_time);
@@ -240,7 +219,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
                               solver.steps(), model.config.source);
         } catch (const RunError& e) {
           const RunError located(fmt::format("step {} (t = {:.6g} s): {}: {}", solver.steps() + 1, solver.time(),
-                                             solver.describe_particle(limiting_particle(model)), e.what()),
+                                             solver.describe_particle(limiting_particle(model.particles, model.config.materials)), e.what()),
                                  e.fault);
           // The state is still that of a good step: worth saving for a restart with a smaller dt.
           if (e.fault == Fault::UnstableStep && out) {

@@ -95,8 +95,8 @@ build "base ($rev = ${commit:0:12})" "$base_dir/src" "$base_dir/build"
 build "working tree" "$root" "$top/work"
 declare -A bin=([base]=$base_dir/build/app/tsuchi [work]=$top/work/app/tsuchi)
 
-version_base=$("${bin[base]}" --version)
-version_work=$("${bin[work]}" --version)
+version_base=$("${bin[base]}" --version 2>/dev/null || echo "(a build without --version)")
+version_work=$("${bin[work]}" --version 2>/dev/null || echo "(a build without --version)")
 echo "base: $version_base (commit $commit)"
 echo "work: $version_work (working tree)"
 if [[ $version_base != "$version_work" ]]; then

@@ -20,9 +20,9 @@ Written apart from bands.py and by a different route: no line is fitted anywhere
     from horizontal); a crossing is no ridge (both eigenvalues negative and alike) and, in a
     deformed X, its neck is nearly horizontal, so the groups part there. Groups shorter than
     8 cells are dropped.
- 5. An arm's angle is the median of its cells' ridge directions, weighted by the ridge strength
-    (minus the larger magnitude eigenvalue): the direction most of the arm has, which for an arm
-    that is straight over most of its length and bent near an end is the straight part's.
+ 5. An arm's angle is the median of its cells' ridge directions, each cell counting once (one
+    cell length of ridge): the direction most of the arm has, which for an arm that is straight
+    over most of its length and bent near an end is the straight part's.
 """
 import argparse
 import math
@@ -100,7 +100,6 @@ def reference_arms(x, y, gamma, sigma_cells=1.5, min_cells=8):
     along = np.degrees(theta_n) - 90.0
     along = (along + 90.0) % 180.0 - 90.0
     along = np.where(along <= -90.0, along + 180.0, along)
-    strength = -lam_a
     arms = []
     for sense, (lo, hi) in ((1, (15.0, 85.0)), (-1, (-85.0, -15.0))):
         cells = ridge & (along >= lo) & (along <= hi)

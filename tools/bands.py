@@ -562,6 +562,15 @@ def _arms(f, fit, stations, ridge, crossed):
     return arms, points
 
 
+def _cores_of_others(fits, k, n):
+    """The particles within half a width of every band fit but the k-th."""
+    others = np.zeros(n, dtype=bool)
+    for j, g in enumerate(fits):
+        if j != k:
+            others |= np.abs(g["t"]) <= 0.5 * g["width"]
+    return others
+
+
 def find_bands(x, y, gamma, max_bands=4, min_contrast=2.0, min_prominence=0.3,
                min_length=0.4, min_coverage=0.7, max_width=0.4, min_r2=0.8, min_relative=0.25,
                angle_step=0.5, candidates=4, clear_contrast=6.0):
@@ -635,10 +644,7 @@ def find_bands(x, y, gamma, max_bands=4, min_contrast=2.0, min_prominence=0.3,
     # made of another band's shoulder) is dropped.
     refits = []
     for k, fit in enumerate(found):
-        others = np.zeros(f.n, dtype=bool)
-        for j, g in enumerate(found):
-            if j != k:
-                others |= np.abs(g["t"]) <= 0.5 * g["width"]
+        others = _cores_of_others(found, k, f.n)
         refit = _fit_line(f, fit["angle"], fit["cx"], fit["cy"], others, w_hi, opts)
         if refit is not None:
             refits.append(refit)
@@ -648,10 +654,7 @@ def find_bands(x, y, gamma, max_bands=4, min_contrast=2.0, min_prominence=0.3,
     # straight parts: the reported angle is theirs, not the whole band's chord.
     bands = []
     for k, fit in enumerate(refits):
-        others = np.zeros(f.n, dtype=bool)
-        for j, g in enumerate(refits):
-            if j != k:
-                others |= np.abs(g["t"]) <= 0.5 * g["width"]
+        others = _cores_of_others(refits, k, f.n)
         stations, ridge, crossed = _trace_ridge(f, fit, others)
         a = math.radians(fit["angle"])
         ends = [(fit[xk] - fit["cx"]) * math.cos(a) + (fit[yk] - fit["cy"]) * math.sin(a)

@@ -22,7 +22,6 @@ Exit status: 0 if every run finished, 1 otherwise (the report is written anyway)
 """
 import argparse
 import json
-import math
 import os
 import subprocess
 import sys
@@ -35,10 +34,9 @@ sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(REPO, "tools"))
 import numpy as np  # noqa: E402
 from bands import find_bands  # noqa: E402
+from plot import CONFINING_KPA, mc_peak  # noqa: E402
 from vtu import read_pvd, read_vtu  # noqa: E402
 
-COHESION_KPA, FRICTION_DEG = 8.5, 30.5
-CONFINING_KPA = {"test1": 10.0, "test2": 50.0, "test3": 100.0}
 HEIGHT = 0.1  # specimen height, m: axial strain = cap settlement / HEIGHT
 BASE = {"cell": 0.002, "seed": 2015, "speed": 0.02}
 FAMILIES = {  # family -> [(variant key, value, stop strain)]
@@ -49,13 +47,6 @@ FAMILIES = {  # family -> [(variant key, value, stop strain)]
 REPORT_Q_STRAINS = (0.05, 0.10, 0.15)
 BAND_STRAINS = (0.08, 0.15)
 STRAIN_TOL = 0.0025
-
-
-def mc_peak(p_kpa, c=COHESION_KPA, phi_deg=FRICTION_DEG):
-    """Plane-strain Mohr-Coulomb peak q = p (N - 1) + 2 c sqrt(N), kPa."""
-    s = math.sin(math.radians(phi_deg))
-    n = (1 + s) / (1 - s)
-    return p_kpa * (n - 1) + 2 * c * math.sqrt(n)
 
 
 def variants(tests, families):

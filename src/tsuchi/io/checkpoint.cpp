@@ -257,7 +257,9 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
       r.frame_index < 1 || r.row_index < 1 || r.label_index < 0 || !std::isfinite(r.last_frame) || !std::isfinite(r.last_row))
     in.fail("the time or the output counters are out of range");
   Particles<D> p;
-  p.for_each_array([&](const char* name, auto& a) { in.array(fmt::format("p.{}", name), a, static_cast<std::size_t>(count)); });
+  // A copy: clang before 16 cannot capture a structured binding in a lambda.
+  const auto particle_count = static_cast<std::size_t>(count);
+  p.for_each_array([&](const char* name, auto& a) { in.array(fmt::format("p.{}", name), a, particle_count); });
   check_particles(p, model, in);
   r.output.global_bytes = in.scalar<std::uint64_t>("global_csv_bytes");
   r.output.global_crc = in.scalar<std::uint32_t>("global_csv_crc");

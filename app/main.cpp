@@ -13,7 +13,8 @@
 #include "tsuchi/io/output_writer.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
-#include "tsuchi/solver/simulation.hpp"
+#include "tsuchi/run/recorder.hpp"
+#include "tsuchi/run/simulation.hpp"
 #include "tsuchi/solver/time_step.hpp"
 
 #include <CLI/CLI.hpp>
@@ -43,8 +44,7 @@ struct Options {
 };
 
 template <int D>
-void print_summary(const Model<D>& m, const std::string& output_dir) {
-  const Config& c = m.config;
+void print_summary(const Config& c, const Model<D>& m, const std::string& output_dir) {
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
   const double dt = next_time_step(c.time, dt_crit, 0, c.source);
   fmt::print("tsuchi     {}\n", version);
@@ -89,9 +89,10 @@ template <int D>
 int check(const Config& c) {
   check_output_paths(c, c.output.directory, checkpoint_path(c, c.output.directory));
   const Model<D> m = build_model<D>(c);
+  make_recorders<D>(c, m);  // an empty particle set is an input error
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
   check_run_length(c, next_time_step(c.time, dt_crit, 0, c.source));
-  print_summary<D>(m, c.output.directory);
+  print_summary<D>(c, m, c.output.directory);
   fmt::print("input is valid\n");
   return exit_code::ok;
 }
@@ -107,7 +108,8 @@ std::string resume_command(const Options& o) {
 template <int D>
 int run(const Config& c, const Options& o) {
   Model<D> m = build_model<D>(c);
-  if (!o.quiet) print_summary<D>(m, o.output.empty() ? c.output.directory : o.output);
+  make_recorders<D>(c, m);  // an empty particle set is an input error, found before the summary
+  if (!o.quiet) print_summary<D>(c, m, o.output.empty() ? c.output.directory : o.output);
   RunOptions ro;
   ro.resume_command = resume_command(o);
   if (!o.output.empty()) ro.output_directory = o.output;
@@ -121,7 +123,7 @@ int run(const Config& c, const Options& o) {
     last = p;
     if (!o.quiet) reporter.update(p);
   };
-  const RunSummary s = run_simulation<D>(m, ro);
+  const RunSummary s = run_simulation<D>(m, c, ro);
   if (!o.quiet) reporter.finish(last);
   const double rate = s.wall_seconds > 0 ? static_cast<double>(s.steps) * static_cast<double>(m.particles.size()) / s.wall_seconds : 0.0;
   if (!s.stopped_by.empty()) fmt::print("stopped: {}\n", s.stopped_by);

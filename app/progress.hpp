@@ -1,7 +1,7 @@
 #pragma once
 // Run progress on the console: a redrawn bar with steps/s and ETA on a terminal, plain periodic
 // lines otherwise (log files, CI), so a long run is never silent.
-#include "tsuchi/solver/simulation.hpp"
+#include "tsuchi/run/simulation.hpp"
 
 #include <chrono>
 #include <cstdio>

@@ -73,7 +73,7 @@ template <int D>
 Figures time_steps(Model<D>& m, int steps, int threads) {
   omp_set_num_threads(threads);
   ExplicitSolver<D> solver(m);
-  const double dt = 0.5 * critical_time_step<D>(m.particles, m.config.materials, m.grid.h);
+  const double dt = 0.5 * critical_time_step<D>(m.particles, m.materials, m.grid.h);
   solver.step(dt);  // warm-up: first touch of every array
   constexpr int kBatches = 5;
   const int per_batch = std::max(1, steps / kBatches);
@@ -118,7 +118,7 @@ void triaxial(int steps, const std::vector<int>& threads) {
     // Load it to 2 % axial strain first, so that the timed steps include plastic returns.
     omp_set_num_threads(t);
     ExplicitSolver<2> pre(m);
-    const double dt = 0.5 * critical_time_step<2>(m.particles, m.config.materials, m.grid.h);
+    const double dt = 0.5 * critical_time_step<2>(m.particles, m.materials, m.grid.h);
     while (pre.time() < 0.1) pre.step(dt);
     report("triaxial test 3, cap fixed (MC)", m.particles.size(), t, time_steps<2>(m, steps, t));
   }

@@ -46,7 +46,7 @@ void decode_into(std::string_view bytes, const Model<D>& pristine) {
   ExplicitSolver<D> solver(m);
   solver.resume(r.time, r.steps);
   try {
-    const double dt = critical_time_step<D>(m.particles, m.config.materials, m.grid.h);
+    const double dt = critical_time_step<D>(m.particles, m.materials, m.grid.h);
     if (std::isfinite(dt) && dt > 0.0) solver.step(0.5 * dt);
   } catch (const RunError&) {
   }

@@ -132,8 +132,13 @@ reduction = "max"
 )";
 
 template <int D>
+Config small_config() {
+  return read_config_string(D == 2 ? kModel2D : kModel3D, D == 2 ? "fuzz2d.toml" : "fuzz3d.toml");
+}
+
+template <int D>
 Model<D> small_model() {
-  return build_model<D>(read_config_string(D == 2 ? kModel2D : kModel3D, D == 2 ? "fuzz2d.toml" : "fuzz3d.toml"));
+  return build_model<D>(small_config<D>());
 }
 
 }  // namespace tsuchi::fuzz

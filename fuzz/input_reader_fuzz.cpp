@@ -9,6 +9,7 @@
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
+#include "tsuchi/run/recorder.hpp"
 
 #include <omp.h>
 
@@ -68,8 +69,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   if (!small_enough(c)) return 0;
   try {
-    if (c.dimension == 3) build_model<3>(c);
-    else build_model<2>(c);
+    if (c.dimension == 3) make_recorders<3>(c, build_model<3>(c));
+    else make_recorders<2>(c, build_model<2>(c));
   } catch (const InputError&) {
   }
   return 0;

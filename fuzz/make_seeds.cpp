@@ -7,7 +7,7 @@
 #include "fuzz_models.hpp"
 
 #include "tsuchi/io/checkpoint.hpp"
-#include "tsuchi/solver/simulation.hpp"
+#include "tsuchi/run/simulation.hpp"
 
 #include <cstdio>
 #include <exception>
@@ -26,7 +26,7 @@ void checkpoints(const fs::path& dir, const fs::path& scratch) {
   write_checkpoint<D>((dir / (tag + "_initial.tsuchi")).string(), m, RunProgress{});
   RunOptions o;
   o.output_directory = (scratch / ("run" + tag)).string();
-  const RunSummary s = run_simulation<D>(m, o);
+  const RunSummary s = run_simulation<D>(m, fuzz::small_config<D>(), o);
   fs::copy_file(s.checkpoint, dir / (tag + "_step3.tsuchi"), fs::copy_options::overwrite_existing);
 }
 

@@ -6,13 +6,13 @@ usage: /usr/bin/python3 scripts/check-layers.py [--quiet]
 The layers, lowest first; a file may include its own folder and any folder of a lower layer,
 never one above (folders on one layer may not include each other):
 
-    core -> grid, particles -> shape -> material -> element, model -> solver -> run -> io -> app
+    core -> grid, particles -> shape -> material -> element, model -> solver -> io -> run -> app
 
-`run` (the loop over time: recorders, output schedule, checkpoints, faults) does not exist yet:
-today that code lives in solver/ and io/, which is what this script reports. Every reported line
-is FILE:LINE, the include, and the two layers. Exit 0 if nothing points up, 1 otherwise; a
-folder the list above does not name is an error (exit 2), so a new folder must be placed here.
-Once the tree passes, ctest should run this script as a test.
+io (files: the input and checkpoint readers, the frame and CSV writers) knows the model but not
+the loop; run (the loop over time: recorders, output schedule, checkpoints, faults) drives the
+solver and io. Every reported line is FILE:LINE, the include, and the two layers. Exit 0 if
+nothing points up, 1 otherwise; a folder the list above does not name is an error (exit 2), so a
+new folder must be placed here. ctest runs this script (test `layers`).
 """
 import os
 import re
@@ -20,7 +20,7 @@ import sys
 
 REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 LAYERS = [["core"], ["grid", "particles"], ["shape"], ["material"], ["element", "model"], ["solver"],
-          ["run"], ["io"], ["app"]]
+          ["io"], ["run"], ["app"]]
 RANK = {folder: i for i, layer in enumerate(LAYERS) for folder in layer}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"tsuchi/([a-z_]+)/[^"]+"')
 

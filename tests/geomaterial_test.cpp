@@ -3,7 +3,7 @@
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
-#include "tsuchi/solver/simulation.hpp"
+#include "tsuchi/run/simulation.hpp"
 
 #include <fmt/format.h>
 #include "test_support.hpp"
@@ -73,8 +73,9 @@ double largest_displacement(const Model<2>& m) {
 }
 
 TEST(Geomaterial, ConfinedBlockStaysAtRestUnderItsInitialStress) {
-  Model<2> m = build_model<2>(config(kBlock));
-  const auto s = run_simulation<2>(m, no_output());
+  const Config c = config(kBlock);
+  Model<2> m = build_model<2>(c);
+  const auto s = run_simulation<2>(m, c, no_output());
   EXPECT_EQ(s.steps, 1000);
   EXPECT_LT(largest_displacement(m), 1e-9);
   std::printf("confined block: largest displacement %.3e m after %lld steps\n", largest_displacement(m), static_cast<long long>(s.steps));
@@ -83,11 +84,12 @@ TEST(Geomaterial, ConfinedBlockStaysAtRestUnderItsInitialStress) {
     ASSERT_NEAR(sig[1], -100e3, 1e-6);
     ASSERT_NEAR(sig[2], -100e3, 1e-6);
   }
-  for (auto mode : m.particles.yield_p) ASSERT_EQ(mode, 0);
+  for (double mode : *m.particles.state_column("yield_mode")) ASSERT_EQ(mode, 0.0);
 
   // The same block without eq (2) is pushed apart by its own stress: the check above can fail.
-  Model<2> loose = build_model<2>(config(kBlock, {"bodies.0.initial_stress.subtract=false", "time.max_steps=100"}));
-  run_simulation<2>(loose, no_output());
+  const Config lc = config(kBlock, {"bodies.0.initial_stress.subtract=false", "time.max_steps=100"});
+  Model<2> loose = build_model<2>(lc);
+  run_simulation<2>(loose, lc, no_output());
   EXPECT_GT(largest_displacement(loose), 1e-5);
 }
 
@@ -110,8 +112,9 @@ TEST(Geomaterial, K0ProfileFollowsDepth) {
 std::vector<double> factors(const std::vector<std::string>& overrides) {
   const std::string text = replace(kBlock, "[time]", "[bodies.imperfection]\namplitude = 0.05\nseed = 7\n\n[time]");
   const Model<2> m = build_model<2>(config(text, overrides));
-  std::vector<double> f = m.particles.c_scale_p;
-  f.insert(f.end(), m.particles.phi_scale_p.begin(), m.particles.phi_scale_p.end());
+  std::vector<double> f = *m.particles.state_column("cohesion_factor");
+  const auto& phi = *m.particles.state_column("friction_factor");
+  f.insert(f.end(), phi.begin(), phi.end());
   return f;
 }
 
@@ -237,15 +240,16 @@ TEST(Geomaterial, PlaneStrainCompressionThroughTheSolverReachesMohrCoulombStreng
   text = replace(text, "end = 1.0\ncourant = 0.5\nmax_steps = 1000", "end = 0.15\ncourant = 0.5");
   const double G[] = {1311e3, 6401e3, 8514e3}, P[] = {10e3, 50e3, 100e3};
   for (int t = 0; t < 3; ++t) {
-    Model<2> m = build_model<2>(config(text, {fmt::format("materials.0.shear_modulus={}", G[t]),
-                                              fmt::format("bodies.0.initial_stress.isotropic={}", -P[t])}));
+    const Config c = config(text, {fmt::format("materials.0.shear_modulus={}", G[t]),
+                                   fmt::format("bodies.0.initial_stress.isotropic={}", -P[t])});
+    Model<2> m = build_model<2>(c);
     const auto& p = m.particles;
     std::vector<char> inner(p.size(), 0);  // by id: the solver reorders particles in memory
     std::size_t n_inner = 0;
     for (std::size_t i = 0; i < p.size(); ++i)
       if (p.x_p[i][1] < 0.095) inner[p.id_p[i]] = 1, ++n_inner;
     double q_peak = 0.0, q_end = 0.0, sxx_err = 0.0;
-    run_simulation<2>(m, no_output(), [&](const ExplicitSolver<2>&) {
+    run_simulation<2>(m, c, no_output(), [&](const ExplicitSolver<2>&) {
       double syy = 0.0, sxx = 0.0;
       for (const auto& sig : p.sigma_p) syy += sig[1], sxx += sig[0];
       const double n = static_cast<double>(p.size());
@@ -265,8 +269,8 @@ TEST(Geomaterial, PlaneStrainCompressionThroughTheSolverReachesMohrCoulombStreng
     std::size_t shear = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
       if (!inner[p.id_p[i]]) continue;
-      plastic_volume = std::max(plastic_volume, std::abs(p.plastic_volume_p[i]));
-      shear += p.yield_p[i] == static_cast<std::uint8_t>(YieldMode::Shear);
+      plastic_volume = std::max(plastic_volume, std::abs((*p.state_column("plastic_volumetric_strain"))[i]));
+      shear += (*p.state_column("yield_mode"))[i] == static_cast<double>(YieldMode::Shear);
     }
     EXPECT_LT(plastic_volume, 1e-12) << "psi = 0";
     EXPECT_EQ(shear, n_inner) << "every particle flows in shear at 15 % strain";

@@ -4,7 +4,7 @@
 #include "tsuchi/io/atomic_file.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/io/vtu_writer.hpp"
-#include "tsuchi/solver/simulation.hpp"
+#include "tsuchi/run/simulation.hpp"
 
 #include <gtest/gtest.h>
 
@@ -69,11 +69,12 @@ Vtu parse_vtu(const std::string& doc) {
 
 TEST(Output, RunWritesCompleteFramesSeriesAndCsv) {
   const fs::path dir = fresh_dir("run");
-  Model<2> m = build_model<2>(read_config_file(std::string(TSUCHI_SOURCE_DIR) + "/examples/bar_vibration/bar.toml",
-                                               {"time.end=0.01", "output.interval=0.004"}));
+  const Config c = read_config_file(std::string(TSUCHI_SOURCE_DIR) + "/examples/bar_vibration/bar.toml",
+                                    {"time.end=0.01", "output.interval=0.004"});
+  Model<2> m = build_model<2>(c);
   RunOptions o;
   o.output_directory = dir.string();
-  const RunSummary s = run_simulation<2>(m, o);
+  const RunSummary s = run_simulation<2>(m, c, o);
   // Frames at 0, 0.004, 0.008 and the end 0.01.
   ASSERT_EQ(s.frames, 4u);
   const std::string pvd = slurp(dir / "particles.pvd");

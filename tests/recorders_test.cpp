@@ -1,8 +1,8 @@
 // Recorders: the particle set, the reductions and the stop bound, and their input checks.
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/io/config_reader.hpp"
-#include "tsuchi/solver/recorder.hpp"
-#include "tsuchi/solver/simulation.hpp"
+#include "tsuchi/run/recorder.hpp"
+#include "tsuchi/run/simulation.hpp"
 
 #include "test_support.hpp"
 
@@ -83,7 +83,7 @@ Config config(const std::vector<std::string>& overrides = {}) { return read_conf
 TEST(Recorders, SelectAndReduce) {
   const Config c = config();
   const Model<2> m = build_model<2>(c);
-  const Recorder<2> drift(c.recorders[0], m), bottom(c.recorders[1], m), mass(c.recorders[2], m);
+  const Recorder<2> drift(c.recorders[0], 0, m), bottom(c.recorders[1], 1, m), mass(c.recorders[2], 2, m);
   EXPECT_EQ(drift.size(), 64u);   // 4 x 4 cells, 2 x 2 particles each
   EXPECT_EQ(bottom.size(), 8u);   // the bottom row of the block: y0 = 0.1125
   EXPECT_EQ(mass.size(), 64u + 16u);
@@ -95,9 +95,9 @@ TEST(Recorders, SelectAndReduce) {
 TEST(Recorders, StopBoundEndsTheRunAtTheFirstCrossing) {
   Config c = config();
   Model<2> m = build_model<2>(c);
-  const Recorder<2> drift(c.recorders[0], m);
+  const Recorder<2> drift(c.recorders[0], 0, m);
   double before = 0.0, last = 0.0;
-  const RunSummary s = run_simulation<2>(m, no_output(), [&](const ExplicitSolver<2>&) {
+  const RunSummary s = run_simulation<2>(m, c, no_output(), [&](const ExplicitSolver<2>&) {
     before = last;
     last = drift.value(m.particles);
   });
@@ -113,7 +113,7 @@ TEST(Recorders, StopBoundEndsTheRunAtTheFirstCrossing) {
 TEST(Recorders, ProgressFollowsTheRecorderThatStopsTheRun) {
   Config c = config();
   Model<2> m = build_model<2>(c);
-  const Recorder<2> drift(c.recorders[0], m);
+  const Recorder<2> drift(c.recorders[0], 0, m);
   RunOptions o = no_output();
   std::vector<Progress> seen;
   o.on_progress = [&](const Progress& p) {
@@ -124,7 +124,7 @@ TEST(Recorders, ProgressFollowsTheRecorderThatStopsTheRun) {
     ASSERT_EQ(p.leader_bound, 5.0);
     ASSERT_GT(p.fraction, 10.0 * p.time / p.end_time) << "the time would say about 5 % of this";
   };
-  const RunSummary s = run_simulation<2>(m, o);
+  const RunSummary s = run_simulation<2>(m, c, o);
   ASSERT_FALSE(seen.empty());
   EXPECT_EQ(seen.back().fraction, 1.0);
   EXPECT_EQ(seen.back().step, s.steps);
@@ -141,11 +141,12 @@ TEST(Recorders, ProgressFollowsTheRecorderThatStopsTheRun) {
 // passes the next whole centimetre (about 0.01 cm per step).
 TEST(Recorders, FramesLabelledAndScheduledByARecorder) {
   TempDir tmp("tsuchi_recorders");
-  Model<2> m = build_model<2>(config({"time.end=0.035", "output.frames=true", "output.frame_label=\"drift\"",
-                                      "output.label_interval=1.0", "output.fields=[\"id\"]"}));
+  const Config c = config({"time.end=0.035", "output.frames=true", "output.frame_label=\"drift\"",
+                           "output.label_interval=1.0", "output.fields=[\"id\"]"});
+  Model<2> m = build_model<2>(c);
   RunOptions o;
   o.output_directory = (tmp.path / "out").string();
-  const RunSummary s = run_simulation<2>(m, o);
+  const RunSummary s = run_simulation<2>(m, c, o);
   std::ifstream in(tmp.path / "out" / "particles.pvd");
   const std::string pvd{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   std::vector<double> labels;
@@ -213,9 +214,10 @@ TEST(Recorders, BadInputNamesTheKey) {
       EXPECT_NE(msg.find(bc.words), std::string::npos) << msg;
     }
   }
-  // A box that holds no particle of the body is found when the model is built.
+  // A box that holds no particle of the body is found when the recorders are made, before a run.
   try {
-    build_model<2>(config({"recorders.1.max=[1.0, 0.05]"}));
+    const Config c = config({"recorders.1.max=[1.0, 0.05]"});
+    make_recorders<2>(c, build_model<2>(c));
     ADD_FAILURE() << "empty selection accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("selects no particle"), std::string::npos) << e.what();

@@ -221,8 +221,8 @@ TEST(Checkpoint, RoundTripsEveryParticleArray) {
   for (std::size_t i = 0; i < m.particles.size(); ++i) {
     const double s = static_cast<double>(i);
     m.particles.sigma_p[i] << -1e3 * s, 2.5 * s, 1.0 / (1.0 + s), 1e-7 * s;
-    m.particles.plastic_shear_p[i] = 1e-3 * s;
-    m.particles.yield_p[i] = static_cast<std::uint8_t>(i % 3);
+    (*m.particles.state_column("plastic_shear_strain"))[i] = 1e-3 * s;
+    (*m.particles.state_column("yield_mode"))[i] = static_cast<double>(i % 3);
   }
   RunProgress r;
   r.time = 0.125, r.steps = 77, r.dt = 1.5e-4, r.frame_index = 3, r.row_index = 9;

@@ -2,7 +2,7 @@
 // Helpers shared by the test suites: editing input text, checking error messages, running the
 // `tsuchi` program in a scratch directory, a run without output, and the Mohr-Coulomb peak the
 // geomaterial tests compare against.
-#include "tsuchi/solver/simulation.hpp"
+#include "tsuchi/run/simulation.hpp"
 
 #include <gtest/gtest.h>
 

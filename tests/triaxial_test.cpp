@@ -3,8 +3,8 @@
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/solver/global_quantities.hpp"
-#include "tsuchi/solver/recorder.hpp"
-#include "tsuchi/solver/simulation.hpp"
+#include "tsuchi/run/recorder.hpp"
+#include "tsuchi/run/simulation.hpp"
 
 #include "test_support.hpp"
 
@@ -29,14 +29,14 @@ struct Reduced {
 
 Reduced run_reduced(const std::string& name, double strain) {
   const std::string file = std::string(TSUCHI_SOURCE_DIR) + "/examples/triaxial/" + name + ".toml";
-  Model<2> m = build_model<2>(read_config_file(
+  const Config c = read_config_file(
       file, {"grid.cell_size=0.005", "recorders.1.max=[1.0, 0.0025]", "recorders.2.max=[1.0, 0.0025]",
-             "recorders.0.stop_above=" + std::to_string(strain), "output.frames=false"}));
-  std::vector<Recorder<2>> rec;
-  for (const auto& rc : m.config.recorders) rec.emplace_back(rc, m);
+             "recorders.0.stop_above=" + std::to_string(strain), "output.frames=false"});
+  Model<2> m = build_model<2>(c);
+  const std::vector<Recorder<2>> rec = make_recorders<2>(c, m);
   const double mass0 = global_quantities<2>(m).mass;
   Reduced r;
-  const RunSummary s = run_simulation<2>(m, no_output(), [&](const ExplicitSolver<2>& solver) {
+  const RunSummary s = run_simulation<2>(m, c, no_output(), [&](const ExplicitSolver<2>& solver) {
     if (solver.steps() % 20) return;
     r.q_peak = std::max(r.q_peak, rec[2].value(m.particles));
   });

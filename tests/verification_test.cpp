@@ -3,7 +3,7 @@
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/solver/global_quantities.hpp"
-#include "tsuchi/solver/simulation.hpp"
+#include "tsuchi/run/simulation.hpp"
 
 #include "test_support.hpp"
 
@@ -24,20 +24,31 @@ using std::numbers::pi;
 
 std::string example(const std::string& rel) { return std::string(TSUCHI_SOURCE_DIR) + "/examples/" + rel; }
 
+// An example's input and the model built from it.
 template <int D>
-Model<D> load(const std::string& rel, std::vector<std::string> overrides = {}) {
+struct Loaded {
+  Config c;
+  Model<D> m;
+};
+
+template <int D>
+Loaded<D> load(const std::string& rel, std::vector<std::string> overrides = {}) {
   overrides.push_back("output.frames=false");
-  return build_model<D>(read_config_file(example(rel), overrides));
+  Config c = read_config_file(example(rel), overrides);
+  Model<D> m = build_model<D>(c);
+  return {std::move(c), std::move(m)};
 }
 
 // Simple shear of a hypoelastic block with the Jaumann rate, METHOD.md eq (23), to gamma = pi:
 // tau_xy = G sin(gamma), sigma_xx = -sigma_yy = G (1 - cos(gamma)). Checked every 100 steps on
 // the particles far from the block's edges (where the projected velocity field is exactly linear).
 TEST(Verification, SimpleShearJaumannToGammaPi) {
-  Model<2> m = load<2>("simple_shear/simple_shear.toml");
-  const double G = std::get<LinearElastic>(m.config.materials[0].model).G;
-  const double gamma_dot = m.config.bodies[0].prescribed_gradient[0][1];
-  ASSERT_LE(gamma_dot * *m.config.time.dt, 1e-3);
+  Loaded<2> run = load<2>("simple_shear/simple_shear.toml");
+  Model<2>& m = run.m;
+  const Config& c = run.c;
+  const double G = std::get<LinearElastic>(m.materials[0].model).G;
+  const double gamma_dot = c.bodies[0].prescribed_gradient[0][1];
+  ASSERT_LE(gamma_dot * *c.time.dt, 1e-3);
   // By id: the solver reorders particles in memory as they move.
   std::vector<char> centre(m.particles.size(), 0);
   std::size_t n_centre = 0;
@@ -47,8 +58,8 @@ TEST(Verification, SimpleShearJaumannToGammaPi) {
   }
   ASSERT_GE(n_centre, 40u);
   double worst = 0.0, gamma_end = 0.0;
-  run_simulation<2>(m, no_output(), [&](const ExplicitSolver<2>& s) {
-    if (s.steps() % 100 != 0 && s.time() < m.config.time.end * (1 - 1e-12)) return;
+  run_simulation<2>(m, c, no_output(), [&](const ExplicitSolver<2>& s) {
+    if (s.steps() % 100 != 0 && s.time() < c.time.end * (1 - 1e-12)) return;
     const double g = gamma_dot * s.time();
     gamma_end = g;
     for (std::size_t i = 0; i < m.particles.size(); ++i) {
@@ -69,11 +80,12 @@ struct BarResult {
 
 // First-mode vibration of a fixed-free bar: centre-of-mass velocity v0 (2/pi) cos(2 pi t / T).
 BarResult run_bar(std::vector<std::string> overrides) {
-  Model<2> m = load<2>("bar_vibration/bar.toml", std::move(overrides));
+  Loaded<2> run = load<2>("bar_vibration/bar.toml", std::move(overrides));
+  Model<2>& m = run.m;
   std::vector<double> t{0.0}, v;
   const auto q0 = global_quantities<2>(m);
   v.push_back(q0.momentum[0] / q0.mass);
-  run_simulation<2>(m, no_output(), [&](const ExplicitSolver<2>& s) {
+  run_simulation<2>(m, run.c, no_output(), [&](const ExplicitSolver<2>& s) {
     const auto q = global_quantities<2>(s.model());
     t.push_back(s.time());
     v.push_back(q.momentum[0] / q.mass);
@@ -120,9 +132,10 @@ TEST(Verification, BarEnergyIsConservedWithMuslFlip) {
 // one cell of mid-height, relative to the exact mid-height stress.
 template <int D>
 double column_error(const std::string& file, double h, double* lateral_ratio = nullptr) {
-  Model<D> m = load<D>(file, {"grid.cell_size=" + std::to_string(h)});
-  const double rho = m.config.materials[0].density, g = 9.81, H = 1.0;
-  run_simulation<D>(m, no_output());
+  Loaded<D> run = load<D>(file, {"grid.cell_size=" + std::to_string(h)});
+  Model<D>& m = run.m;
+  const double rho = m.materials[0].density, g = 9.81, H = 1.0;
+  run_simulation<D>(m, run.c, no_output());
   const auto q = global_quantities<D>(m);
   EXPECT_LT(q.kinetic_energy, 1e-6 * q.strain_energy) << "column not at rest";
   double err = 0, ratio = 0;
@@ -201,11 +214,12 @@ end = 0.1
 [output]
 frames = false
 )toml";
-  Model<2> m = build_model<2>(read_config_string(input, "momentum.toml"));
+  const Config c = read_config_string(input, "momentum.toml");
+  Model<2> m = build_model<2>(c);
   const auto q0 = global_quantities<2>(m);
   RunOptions o;
   o.write_output = false;
-  const RunSummary s = run_simulation<2>(m, o);
+  const RunSummary s = run_simulation<2>(m, c, o);
   const auto q1 = global_quantities<2>(m);
   EXPECT_GT(s.steps, 50);
   EXPECT_LT((q1.momentum - q0.momentum).norm(), 1e-9 * q0.momentum.norm());

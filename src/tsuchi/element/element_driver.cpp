@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
+#include <string_view>
 #include <cmath>
 #include <string>
 #include <variant>
@@ -19,19 +21,17 @@ using Stiffness = Eigen::Matrix<double, 6, 6>;
 using VecU = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 6, 1>;
 using MatU = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 6, 6>;
 
+// The stress and the material state (its model's fields, material/state_field.hpp) of the point.
+template <class Model>
 struct PointState {
   Voigt<3> stress = Voigt<3>::Zero();
-  PlasticPoint plastic;
+  PointStateOf<Model> state;
 };
 
 // The state is taken by value: trial evaluations must never touch the committed history.
-PointState advance(const LinearElastic& m, PointState s, const Voigt<3>& d_eps) {
-  m.update<3>(s.stress, d_eps);
-  return s;
-}
-
-PointState advance(const MohrCoulomb& m, PointState s, const Voigt<3>& d_eps) {
-  m.update<3>(s.stress, d_eps, s.plastic);
+template <class Model>
+PointState<Model> advance(const Model& m, PointState<Model> s, const Voigt<3>& d_eps) {
+  m.template update<3>(s.stress, d_eps, Mat<3>::Zero(), m.context(), s.state.ref());
   return s;
 }
 
@@ -72,6 +72,8 @@ struct MixedIncrement {
 
 template <class Model>
 class Driver {
+  using PointState = element::PointState<Model>;
+
  public:
   Driver(const Model& model, const LinearElastic& elastic, const IterationSettings& settings)
       : model_(model), C_(elastic_stiffness(elastic)), M_(elastic.constrained_modulus()), settings_(settings) {}
@@ -125,9 +127,10 @@ class Driver {
     r.segment = segment;
     r.strain = strain;
     r.stress = s.stress;
-    r.mode = s.plastic.mode;
-    r.plastic_shear_strain = s.plastic.plastic_shear;
-    r.plastic_volumetric_strain = s.plastic.plastic_volume;
+    // The element CSV's state columns (element_csv.cpp), from the model's fields of those names.
+    r.mode = static_cast<YieldMode>(static_cast<int>(s.state.field("yield_mode")));
+    r.plastic_shear_strain = s.state.field("plastic_shear_strain");
+    r.plastic_volumetric_strain = s.state.field("plastic_volumetric_strain");
     return r;
   }
 
@@ -245,7 +248,9 @@ void drive_element(const Material& material, const ElementPath& path, const Iter
                    const std::function<void(const ElementRow&)>& on_row) {
   std::visit(
       [&](const auto& model) {
-        Driver<std::decay_t<decltype(model)>>(model, material.elastic(), settings).run(path, on_row);
+        using M = std::decay_t<decltype(model)>;
+        PointStateOf<M> start;
+        Driver<M>(model, model.stiffness(start.ref()), settings).run(path, on_row);
       },
       material.model);
 }

@@ -4,6 +4,7 @@
 #include "tsuchi/io/appended_file.hpp"
 #include "tsuchi/io/atomic_file.hpp"
 #include "tsuchi/io/toml_section.hpp"
+#include "tsuchi/model/material_state.hpp"
 
 #include <fmt/format.h>
 
@@ -28,6 +29,23 @@ constexpr char magic[8] = {'T', 'S', 'U', 'C', 'H', 'I', 'C', 'K'};
 constexpr std::size_t header_size = 8 + 4 + 4 + 8 + 8;  // magic, version, dimension, fingerprint, particles
 
 std::uint32_t crc32_of(std::string_view bytes) { return crc32_update(0, bytes); }
+
+// Format 2 keeps the Mohr-Coulomb state under the names of the particle arrays it had before the
+// material state registry, the yield mode as one byte.
+struct LegacyColumn {
+  std::string_view name, section;
+  bool byte;
+};
+constexpr LegacyColumn legacy_columns[] = {{"yield_mode", "yield", true},
+                                           {"plastic_shear_strain", "plastic_shear", false},
+                                           {"plastic_volumetric_strain", "plastic_volume", false},
+                                           {"cohesion_factor", "c_scale", false},
+                                           {"friction_factor", "phi_scale", false}};
+const LegacyColumn* legacy_column(std::string_view name) {
+  for (const auto& c : legacy_columns)
+    if (c.name == name) return &c;
+  return nullptr;
+}
 
 // Numbers, or fixed-size Eigen vectors that are nothing but their coefficients: safe to copy as
 // bytes (Eigen's types are not formally trivially copyable).
@@ -148,8 +166,8 @@ bool all_finite(const Particles<D>& p) {
 template <int D>
 void check_particles(const Particles<D>& p, const Model<D>& model, const Decoder& in) {
   const std::size_t n = p.size();
-  const auto nbodies = static_cast<std::int32_t>(model.config.bodies.size());
-  const auto nmat = static_cast<std::int32_t>(model.config.materials.size());
+  const auto nbodies = static_cast<std::int32_t>(model.body_names.size());
+  const auto nmat = static_cast<std::int32_t>(model.materials.size());
   if (!all_finite(p)) in.fail("a particle value is not finite");
   std::vector<bool> seen(n, false);
   for (std::size_t i = 0; i < n; ++i) {
@@ -160,7 +178,6 @@ void check_particles(const Particles<D>& p, const Model<D>& model, const Decoder
       in.fail(fmt::format("particle {} has an invalid or repeated id {}", i, p.id_p[i]));
     seen[static_cast<std::size_t>(p.id_p[i])] = true;
     if (!(p.m_p[i] > 0.0) || !(p.V_p[i] > 0.0)) in.fail(fmt::format("particle {} has no mass or volume", i));
-    if (p.yield_p[i] > 2) in.fail(fmt::format("particle {} has an unknown yield mode", i));
     for (int d = 0; d < D; ++d) {
       // The domain update keeps 0 < l_p <= h/2 (particle_domain.hpp); the GIMP weights assume it.
       if (!(p.l_p[i][d] > 0.0) || p.l_p[i][d] > 0.5 * model.grid.h * (1.0 + 1e-12))
@@ -179,7 +196,7 @@ void write_checkpoint(const std::string& path, const Model<D>& model, const RunP
   e.bytes().append(magic, sizeof magic);
   e.raw(checkpoint_version);
   e.raw(static_cast<std::uint32_t>(D));
-  e.raw(model.config.fingerprint);
+  e.raw(model.fingerprint);
   e.raw(static_cast<std::uint64_t>(model.particles.size()));
   e.scalar("time", r.time);
   e.scalar("steps", r.steps);
@@ -189,7 +206,17 @@ void write_checkpoint(const std::string& path, const Model<D>& model, const RunP
   e.scalar("label_index", r.label_index);
   e.scalar("last_frame", r.last_frame);
   e.scalar("last_row", r.last_row);
-  model.particles.for_each_array([&](const char* name, const auto& a) { e.array(fmt::format("p.{}", name), a); });
+  model.particles.for_each_array([&](const char* name, const auto& a) {
+    const LegacyColumn* old = legacy_column(name);
+    if constexpr (std::is_same_v<std::decay_t<decltype(a)>, std::vector<double>>)
+      if (old && old->byte) {
+        std::vector<std::uint8_t> flags(a.size());
+        for (std::size_t i = 0; i < a.size(); ++i) flags[i] = static_cast<std::uint8_t>(a[i]);
+        e.array(fmt::format("p.{}", old->section), flags);
+        return;
+      }
+    e.array(fmt::format("p.{}", old ? old->section : name), a);
+  });
   e.scalar("global_csv_bytes", r.output.global_bytes);
   e.scalar("global_csv_crc", r.output.global_crc);
   e.scalar("recorder_csv_bytes", r.output.recorder_bytes);
@@ -235,11 +262,11 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
   std::memcpy(&stored_crc, bytes.data() + bytes.size() - 4, 4);
   if (verify_checksum && stored_crc != crc32_of(bytes.substr(0, bytes.size() - 4)))
     fail("the checksum does not match: the file is damaged or incomplete");
-  if (fp != model.config.fingerprint)
+  if (fp != model.fingerprint)
     fail(fmt::format("it was written for another input (the model, materials, bodies, boundary or solver "
                      "differ from {}); only time.end, time.max_steps, the time step, [output], [checkpoint] and "
                      "recorder stop bounds may change on a restart",
-                     model.config.source));
+                     model.source));
   if (count != model.particles.size())
     fail(fmt::format("it holds {} particles, the input makes {}", count, model.particles.size()));
 
@@ -259,7 +286,18 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
   Particles<D> p;
   // A copy: clang before 16 cannot capture a structured binding in a lambda.
   const auto particle_count = static_cast<std::size_t>(count);
-  p.for_each_array([&](const char* name, auto& a) { in.array(fmt::format("p.{}", name), a, particle_count); });
+  declare_state_columns(p);
+  p.for_each_array([&](const char* name, auto& a) {
+    const LegacyColumn* old = legacy_column(name);
+    if constexpr (std::is_same_v<std::decay_t<decltype(a)>, std::vector<double>>)
+      if (old && old->byte) {
+        std::vector<std::uint8_t> flags;
+        in.array(fmt::format("p.{}", old->section), flags, particle_count);
+        a.assign(flags.begin(), flags.end());
+        return;
+      }
+    in.array(fmt::format("p.{}", old ? old->section : name), a, particle_count);
+  });
   check_particles(p, model, in);
   r.output.global_bytes = in.scalar<std::uint64_t>("global_csv_bytes");
   r.output.global_crc = in.scalar<std::uint32_t>("global_csv_crc");
@@ -299,7 +337,7 @@ RunProgress read_checkpoint(const std::string& path, Model<D>& model) {
     refuse(path, fmt::format("it holds {} particles, the input makes {}", count, model.particles.size()));
   // Every section but the frame list is a fixed size per particle; 64 bytes per frame listed.
   const auto size = static_cast<std::uint64_t>(st.st_size);
-  const std::uint64_t most = (count + 1) * 2 * Particles<D>::bytes_per_particle() + (std::uint64_t{1} << 30);
+  const std::uint64_t most = (count + 1) * 2 * model.particles.bytes_per_particle() + (std::uint64_t{1} << 30);
   if (size > most) refuse(path, fmt::format("it is {} bytes long, more than a checkpoint of {} particles can be", size, count));
   bytes.resize(static_cast<std::size_t>(size));
   const std::size_t rest = bytes.size() - header_size;

@@ -2,11 +2,10 @@
 
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/expression.hpp"
-#include "tsuchi/io/particle_fields.hpp"
+#include "tsuchi/model/particle_fields.hpp"
 
 #include "tsuchi/io/material_reader.hpp"
 #include "tsuchi/io/toml_section.hpp"
-#include "tsuchi/solver/recorder.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -14,24 +13,6 @@
 #include <sstream>
 
 namespace tsuchi {
-
-const char* to_string(Scheme s) {
-  switch (s) {
-    case Scheme::USF: return "USF";
-    case Scheme::USL: return "USL";
-    case Scheme::MUSL: return "MUSL";
-  }
-  return "?";
-}
-
-const char* to_string(ShapeKind s) {
-  switch (s) {
-    case ShapeKind::Linear: return "linear";
-    case ShapeKind::UGimp: return "ugimp";
-    case ShapeKind::Gimp: return "gimp";
-  }
-  return "?";
-}
 
 namespace {
 
@@ -161,8 +142,8 @@ void read_initial_stress(Section& s, const Config& c, BodyConfig& b) {
 void read_imperfection(Section& s, const Config& c, BodyConfig& b) {
   auto& im = b.imperfection;
   const Material& mat = c.materials[b.material_index];
-  const auto* mc = std::get_if<MohrCoulomb>(&mat.model);
-  if (!mc)
+  // An imperfection scales the strength factors of the material's state.
+  if (!has_state_field(mat, "cohesion_factor") || !has_state_field(mat, "friction_factor"))
     s.fail_here(fmt::format("material \"{}\" of body \"{}\" has no strength to perturb; an imperfection needs "
                             "a \"mohr_coulomb\" material", mat.name, b.name));
   im.amplitude = s.number("amplitude", "a relative amplitude in [0, 1)", [](double v) { return v >= 0 && v < 1; });
@@ -181,10 +162,15 @@ void read_imperfection(Section& s, const Config& c, BodyConfig& b) {
       else s.fail("parameters", fmt::format("expected {}, got {}", expected, describe(e)));
     }
   }
-  constexpr double deg = 180.0 / 3.14159265358979323846;
-  if (im.friction && mc->phi * (1.0 + im.amplitude) * deg >= 90.0)
-    s.fail("amplitude", fmt::format("friction angle {} degrees times (1 + {}) reaches 90 degrees", mc->phi * deg,
-                                    im.amplitude));
+  const std::string limit = std::visit(
+      [&](const auto& m) -> std::string {
+        if constexpr (requires { m.imperfection_limit(0.0, true, true); })
+          return m.imperfection_limit(im.amplitude, im.cohesion, im.friction);
+        else
+          return {};
+      },
+      mat.model);
+  if (!limit.empty()) s.fail("amplitude", limit);
   s.finish();
 }
 
@@ -328,14 +314,15 @@ void read_output(Section& s, Config& c) {
     if (!a) s.fail("fields", fmt::format("expected an array of field names, got {}", describe(*n)));
     for (const auto& e : *a) {
       auto str = e.as_string();
-      if (!str || !is_particle_field(str->get()))
-        s.fail("fields", fmt::format("expected field names from {}, got {}", particle_field_list(), describe(e)));
+      const ParticleField* f = str ? find_particle_field(str->get()) : nullptr;
+      if (!f || !f->frame)
+        s.fail("fields", fmt::format("expected field names from {}, got {}", quoted_list(frame_field_names()), describe(e)));
       if (std::find(o.fields.begin(), o.fields.end(), str->get()) != o.fields.end())
         s.fail("fields", fmt::format("field \"{}\" is listed twice", str->get()));
       o.fields.push_back(str->get());
     }
   } else {
-    o.fields = all_particle_fields();
+    o.fields = frame_field_names();
   }
   s.finish();
 }
@@ -433,7 +420,7 @@ void read_recorder(Section& s, Config& c) {
   if (s.has("max")) r.max = s.vector("max", dim, "m (initial positions)", any);
   else s.get("max");
   r.quantity = s.string("quantity", "a particle quantity");
-  if (!is_recorder_quantity(r.quantity, dim)) {
+  if (!find_recorder_quantity(r.quantity, dim)) {
     s.fail("quantity", fmt::format("expected one of {}, got \"{}\"", quoted_list(recorder_quantities(dim)), r.quantity));
   }
   r.reduction = static_cast<RecorderConfig::Reduction>(s.choice("reduction", {"mean", "sum", "min", "max"}, 0));

@@ -222,22 +222,17 @@ ElementPath general(Section& s) {
 
 // A point cannot start outside its yield surface: the first increment would jump to it.
 void check_inside_yield_surface(const Material& m, const Voigt<3>& sigma, Section& s, std::string_view key) {
-  const auto* mc = std::get_if<MohrCoulomb>(&m.model);
-  if (!mc) return;
-  const auto st = mc->strength();
   const Eigen::Vector3d v = PrincipalFrame<3>(sigma).values;
-  const std::string principal = fmt::format("principal stresses {:.6g}, {:.6g}, {:.6g} Pa", v[0], v[1], v[2]);
-  switch (MohrCoulomb::beyond(v, st)) {
-    case MohrCoulomb::Beyond::Nothing: return;
-    case MohrCoulomb::Beyond::Shear:
-      s.fail(key, fmt::format("expected an initial stress inside the Mohr-Coulomb surface of material \"{}\", got one "
-                              "beyond its shear strength ({})",
-                              m.name, principal));
-    case MohrCoulomb::Beyond::Tension:
-      s.fail(key, fmt::format("expected an initial stress inside the Mohr-Coulomb surface of material \"{}\", got one "
-                              "beyond its tension strength {:g} Pa ({})",
-                              m.name, st.sigma_t, principal));
-  }
+  const Inadmissible beyond = std::visit(
+      [&](const auto& model) {
+        PointStateOf<std::decay_t<decltype(model)>> start;  // a point that starts: every field at its initial value
+        return model.outside(v, start.ref());
+      },
+      m.model);
+  if (!beyond.any()) return;
+  s.fail(key, fmt::format("expected an initial stress inside the {} surface of material \"{}\", got one {} "
+                          "(principal stresses {:.6g}, {:.6g}, {:.6g} Pa)",
+                          beyond.yield_surface, m.name, beyond.detail, v[0], v[1], v[2]));
 }
 
 const Material& select_material(Section& test, const std::vector<Material>& materials) {
@@ -323,19 +318,16 @@ ElementInput read_element_file(const std::string& path, const std::vector<std::s
 }
 
 std::string describe_material(const Material& m) {
-  const LinearElastic& e = m.elastic();
-  const double nu = (3.0 * e.K - 2.0 * e.G) / (2.0 * (3.0 * e.K + e.G));
-  std::string r = fmt::format("\"{}\": {}, density {:g} kg/m^3, G = {:.6g} Pa, nu = {:.6g}", m.name,
-                              m.is_plastic() ? "mohr_coulomb" : "linear_elastic", m.density, e.G, nu);
-  if (const auto* mc = std::get_if<MohrCoulomb>(&m.model)) {
-    constexpr double deg = 180.0 / std::numbers::pi;
-    r += fmt::format(", c = {:.6g} Pa, phi = {:.6g} deg, psi = {:.6g} deg, tension strength {:.6g} Pa "
-                     "({} rule, {} selection)",
-                     mc->cohesion, mc->phi * deg, mc->psi * deg, mc->tension,
-                     mc->tension_rule == TensionRule::Flac ? "flac" : "paper",
-                     mc->tension_selection == TensionSelection::Flac ? "flac" : "paper");
-  }
-  return r;
+  return std::visit(
+      [&](const auto& model) {
+        using M = std::decay_t<decltype(model)>;
+        PointStateOf<M> start;
+        const LinearElastic& e = model.stiffness(start.ref());
+        const double nu = (3.0 * e.K - 2.0 * e.G) / (2.0 * (3.0 * e.K + e.G));
+        return fmt::format("\"{}\": {}, density {:g} kg/m^3, G = {:.6g} Pa, nu = {:.6g}{}", m.name, M::name, m.density,
+                           e.G, nu, model.describe());
+      },
+      m.model);
 }
 
 }  // namespace tsuchi::io

@@ -67,6 +67,29 @@ MohrCoulomb read_mohr_coulomb(Section& s, const LinearElastic& elastic, std::vec
   return m;
 }
 
+// The parameters of each registered model (material/material.hpp), past its elastic moduli: a new
+// model adds its reader here.
+LinearElastic read_parameters(Section&, const LinearElastic& elastic, std::vector<std::string>*, const LinearElastic*) {
+  return elastic;
+}
+MohrCoulomb read_parameters(Section& s, const LinearElastic& elastic, std::vector<std::string>* warnings,
+                            const MohrCoulomb*) {
+  return read_mohr_coulomb(s, elastic, warnings);
+}
+
+// The names of the registered models, in registration order, and the reader of the n-th.
+template <class... M>
+std::vector<std::string> model_names(std::variant<M...>*) {
+  return {std::string(M::name)...};
+}
+template <std::size_t I = 0>
+ConstitutiveModel read_model(std::size_t n, Section& s, const LinearElastic& elastic, std::vector<std::string>* warnings) {
+  using M = std::variant_alternative_t<I, ConstitutiveModel>;
+  if (n == I) return read_parameters(s, elastic, warnings, static_cast<const M*>(nullptr));
+  if constexpr (I + 1 < std::variant_size_v<ConstitutiveModel>) return read_model<I + 1>(n, s, elastic, warnings);
+  else return elastic;  // unreachable: n is the index of a name
+}
+
 }  // namespace
 
 Material read_material(Section& s, const std::vector<Material>& defined, std::vector<std::string>* warnings) {
@@ -74,12 +97,12 @@ Material read_material(Section& s, const std::vector<Material>& defined, std::ve
   m.name = s.string("name", "a material name");
   for (const auto& other : defined)
     if (other.name == m.name) s.fail("name", fmt::format("material \"{}\" is defined twice", m.name));
-  const int model = s.choice("model", {"linear_elastic", "mohr_coulomb"}, -1);
-  if (model < 0) s.need("model", "a constitutive model name (\"linear_elastic\" or \"mohr_coulomb\")");
+  const std::vector<std::string> names = model_names(static_cast<ConstitutiveModel*>(nullptr));
+  const int model = s.choice("model", names, -1);
+  if (model < 0) s.need("model", fmt::format("a constitutive model name ({})", quoted_list(names)));
   m.density = s.number("density", "a positive density in kg/m^3", positive);
   const LinearElastic elastic = read_elastic(s, warnings);
-  if (model == 0) m.model = elastic;
-  else m.model = read_mohr_coulomb(s, elastic, warnings);
+  m.model = read_model(static_cast<std::size_t>(model), s, elastic, warnings);
   s.finish();
   return m;
 }

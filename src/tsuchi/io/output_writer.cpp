@@ -73,16 +73,20 @@ void check_output_paths(const Config& c, const std::string& directory, const std
 }
 
 template <int D>
-OutputWriter<D>::OutputWriter(const Model<D>& model, std::string directory, const std::vector<Recorder<D>>& recorders,
-                              const OutputHistory* resume)
-    : m_(model), dir_(std::move(directory)), lock_((prepare_output_directory(dir_), dir_)), recorders_(recorders) {
+OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output, std::string directory,
+                              std::vector<std::string> recorder_names, const OutputHistory* resume)
+    : m_(model),
+      output_(output),
+      dir_(std::move(directory)),
+      lock_((prepare_output_directory(dir_), dir_)),
+      recorders_(std::move(recorder_names)) {
   std::string global_header = "time,step,dt,kinetic_energy,strain_energy,gravity_potential,total_energy,mass";
   for (int d = 0; d < D; ++d) global_header += fmt::format(",momentum_{}", "xyz"[d]);
   global_header += '\n';
   std::string recorder_header;
   if (!recorders_.empty()) {
     recorder_header = "time,step";
-    for (const auto& r : recorders_) recorder_header += "," + r.config().name;
+    for (const auto& name : recorders_) recorder_header += "," + name;
     recorder_header += '\n';
   }
   if (resume) {
@@ -113,18 +117,17 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, std::string directory, cons
 }
 
 template <int D>
-void OutputWriter<D>::frame(double time) {
-  if (!m_.config.output.write_frames) return;
+void OutputWriter<D>::frame(double label) {
+  if (!output_.write_frames) return;
   const std::string name = fmt::format("particles_{:06d}.vtu", h_.frames.size());
-  write_file_atomically(dir_ + "/" + name, vtu_document<D>(m_, m_.config.output.fields));
-  const int label = m_.config.output.frame_label_recorder;
-  h_.frames.emplace_back(label >= 0 ? recorders_[static_cast<std::size_t>(label)].value(m_.particles) : time, name);
+  write_file_atomically(dir_ + "/" + name, vtu_document<D>(m_, output_.fields));
+  h_.frames.emplace_back(label, name);
   write_file_atomically(dir_ + "/particles.pvd", pvd_document(h_.frames));
   flush_global();
 }
 
 template <int D>
-void OutputWriter<D>::global_row(double time, std::int64_t step, double dt) {
+void OutputWriter<D>::global_row(double time, std::int64_t step, double dt, const std::vector<double>& recorder_values) {
   const auto q = global_quantities<D>(m_);
   std::string row = fmt::format("{:.12g},{},{:.9g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g}", time, step, dt,
                                 q.kinetic_energy, q.strain_energy, q.gravity_potential,
@@ -134,7 +137,7 @@ void OutputWriter<D>::global_row(double time, std::int64_t step, double dt) {
   global_.append(row);
   if (recorders_.empty()) return;
   row = fmt::format("{:.12g},{}", time, step);
-  for (const auto& r : recorders_) row += fmt::format(",{:.12g}", r.value(m_.particles));
+  for (const double v : recorder_values) row += fmt::format(",{:.12g}", v);
   row += '\n';
   recorder_file_.append(row);
 }

@@ -10,7 +10,6 @@
 #include "tsuchi/io/appended_file.hpp"
 #include "tsuchi/io/output_lock.hpp"
 #include "tsuchi/model/model.hpp"
-#include "tsuchi/solver/recorder.hpp"
 
 #include <string>
 #include <utility>
@@ -40,12 +39,15 @@ class OutputWriter {
  public:
   // Creates the directory, locks it and starts the files; with `resume`, continues the files of a
   // checkpointed run instead (InputError when they are not there as the checkpoint left them).
-  // `recorders` are the run's (chosen on the initial state) and must outlive the writer.
-  OutputWriter(const Model<D>& model, std::string directory, const std::vector<Recorder<D>>& recorders,
-               const OutputHistory* resume = nullptr);
+  // recorders.csv gets a column per name in `recorder_names` (none: no file).
+  OutputWriter(const Model<D>& model, const OutputConfig& output, std::string directory,
+               std::vector<std::string> recorder_names, const OutputHistory* resume = nullptr);
 
-  void frame(double time);
-  void global_row(double time, std::int64_t step, double dt);
+  // A frame of the particles; `label` is its time in the .pvd (the time, or the value of the
+  // output.frame_label recorder).
+  void frame(double label);
+  // A row of global.csv, and of recorders.csv with the recorders' values (in the order of the names).
+  void global_row(double time, std::int64_t step, double dt, const std::vector<double>& recorder_values);
   // Writes the queued CSV rows to the files (done with every frame, at the end of a run and by the
   // run loop every half minute); with `sync`, also to disk, as before a checkpoint.
   void flush_global(bool sync = false);
@@ -57,10 +59,11 @@ class OutputWriter {
 
  private:
   const Model<D>& m_;
+  OutputConfig output_;
   std::string dir_;
   DirectoryLock lock_;
   OutputHistory h_;
-  const std::vector<Recorder<D>>& recorders_;
+  std::vector<std::string> recorders_;
   AppendedFile global_, recorder_file_;
 };
 

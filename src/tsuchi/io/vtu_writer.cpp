@@ -2,6 +2,7 @@
 
 #include "tsuchi/core/principal.hpp"
 #include "tsuchi/core/version.hpp"
+#include "tsuchi/model/particle_fields.hpp"
 
 #include <fmt/format.h>
 
@@ -35,20 +36,23 @@ class VtuBuilder {
   std::string blob_;
 };
 
+// Field f of every particle as the frame stores it: vectors with 3 components and symmetric
+// tensors with 6 in ParaView's order XX, YY, ZZ, XY, YZ, XZ (ours too), zero-padded in 2D.
+template <class T, int D>
+std::vector<T> field_array(const ParticleField& f, const Particles<D>& p, int components) {
+  const std::size_t n = p.size();
+  const int used = f.kind == FieldKind::Vector ? D : f.kind == FieldKind::Tensor ? n_voigt<D> : 1;
+  std::vector<T> r(static_cast<std::size_t>(components) * n, T{});
+  for (std::size_t i = 0; i < n; ++i)
+    for (int c = 0; c < used; ++c) r[static_cast<std::size_t>(components) * i + c] = static_cast<T>(field_value(f, p, i, c));
+  return r;
+}
+
 template <int D>
 std::vector<double> vectors3(const std::vector<Vec<D>>& v) {
   std::vector<double> r(3 * v.size(), 0.0);
   for (std::size_t i = 0; i < v.size(); ++i)
     for (int d = 0; d < D; ++d) r[3 * i + d] = v[i][d];
-  return r;
-}
-
-// Symmetric tensors in ParaView's six-component order XX, YY, ZZ, XY, YZ, XZ (ours too).
-template <int D>
-std::vector<double> tensors6(const std::vector<Voigt<D>>& s) {
-  std::vector<double> r(6 * s.size(), 0.0);
-  for (std::size_t i = 0; i < s.size(); ++i)
-    for (int k = 0; k < n_voigt<D>; ++k) r[6 * i + k] = s[i][k];
   return r;
 }
 
@@ -69,45 +73,15 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
       version, n, n,
       // The field ParaView colours by when a frame is opened: where the shear bands are.
       std::find(fields.begin(), fields.end(), "max_shear_strain") != fields.end() ? " Scalars=\"max_shear_strain\"" : "");
-  for (const auto& f : fields) {
-    if (f == "id") b.array(xml, "Int32", f, 1, p.id_p);
-    else if (f == "displacement") b.array(xml, "Float64", f, 3, vectors3<D>(p.u_p));
-    else if (f == "velocity") b.array(xml, "Float64", f, 3, vectors3<D>(p.v_p));
-    else if (f == "stress") b.array(xml, "Float64", f, 6, tensors6<D>(p.sigma_p));
-    else if (f == "strain") b.array(xml, "Float64", f, 6, tensors6<D>(p.eps_p));
-    else if (f == "max_shear_strain") {
-      std::vector<double> g(n);
-      for (std::size_t i = 0; i < n; ++i) g[i] = max_shear_strain<D>(p.eps_p[i]);
-      b.array(xml, "Float64", f, 1, g);
-    } else if (f == "mean_stress") {
-      // p = tr(sigma) / 3, tension positive (sigma_zz included in 2D), Pa.
-      std::vector<double> mean(n);
-      for (std::size_t i = 0; i < n; ++i) mean[i] = trace<D>(p.sigma_p[i]) / 3.0;
-      b.array(xml, "Float64", f, 1, mean);
-    } else if (f == "deviator_stress") {
-      // q = sqrt(3 J2), the von Mises stress, Pa.
-      std::vector<double> q(n);
-      for (std::size_t i = 0; i < n; ++i) q[i] = von_mises<D>(p.sigma_p[i]);
-      b.array(xml, "Float64", f, 1, q);
-    } else if (f == "radius") {
-      // Half the side of the particle's GIMP domain, the mean over the axes: the size ParaView's
-      // Point Gaussian representation draws each particle with (docs/input.md).
-      std::vector<double> r(n);
-      for (std::size_t i = 0; i < n; ++i) r[i] = p.l_p[i].mean();
-      b.array(xml, "Float64", f, 1, r);
-    } else if (f == "volume") b.array(xml, "Float64", f, 1, p.V_p);
-    else if (f == "mass") b.array(xml, "Float64", f, 1, p.m_p);
-    else if (f == "density") {
-      std::vector<double> rho(n);
-      for (std::size_t i = 0; i < n; ++i) rho[i] = p.m_p[i] / p.V_p[i];
-      b.array(xml, "Float64", f, 1, rho);
-    } else if (f == "material") b.array(xml, "Int32", f, 1, p.material_p);
-    else if (f == "body") b.array(xml, "Int32", f, 1, p.body_p);
-    else if (f == "yield_mode") b.array(xml, "UInt8", f, 1, p.yield_p);
-    else if (f == "plastic_shear_strain") b.array(xml, "Float64", f, 1, p.plastic_shear_p);
-    else if (f == "plastic_volumetric_strain") b.array(xml, "Float64", f, 1, p.plastic_volume_p);
-    else if (f == "cohesion_factor") b.array(xml, "Float64", f, 1, p.c_scale_p);
-    else if (f == "friction_factor") b.array(xml, "Float64", f, 1, p.phi_scale_p);
+  for (const auto& name : fields) {
+    const ParticleField* f = find_particle_field(name);
+    if (!f || !f->frame) continue;  // the input reader accepts frame fields only
+    const int components = f->kind == FieldKind::Vector ? 3 : f->kind == FieldKind::Tensor ? 6 : 1;
+    switch (f->type) {
+      case FieldType::Float64: b.array(xml, "Float64", name, components, field_array<double>(*f, p, components)); break;
+      case FieldType::Int32: b.array(xml, "Int32", name, components, field_array<std::int32_t>(*f, p, components)); break;
+      case FieldType::UInt8: b.array(xml, "UInt8", name, components, field_array<std::uint8_t>(*f, p, components)); break;
+    }
   }
   xml += "      </PointData>\n      <Points>\n";
   b.array(xml, "Float64", "", 3, vectors3<D>(p.x_p));

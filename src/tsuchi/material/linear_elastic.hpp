@@ -1,10 +1,17 @@
 #pragma once
 // Hooke's law in rate form (hypoelastic): d_sigma = lambda tr(d_eps) I + 2 G d_eps, eq (11).
 #include "tsuchi/core/tensor.hpp"
+#include "tsuchi/material/state_field.hpp"
+
+#include <array>
+#include <string>
 
 namespace tsuchi {
 
 struct LinearElastic {
+  static constexpr std::string_view name = "linear_elastic";
+  static constexpr std::array<StateField, 0> state_fields{};  // no history
+
   double K = 0.0;  // bulk modulus (Pa)
   double G = 0.0;  // shear modulus (Pa)
 
@@ -29,6 +36,20 @@ struct LinearElastic {
   void update(Voigt<D>& sigma, const Voigt<D>& d_eps) const {
     sigma += stress_increment<D>(d_eps);
   }
+
+  // The constitutive model interface (material/material.hpp): one step of a point with state s;
+  // the stress has been rotated (Jaumann, eq 22) by the caller.
+  struct Context {};
+  Context context() const { return {}; }
+  template <int D>
+  void update(Voigt<D>& sigma, const Voigt<D>& d_eps, const Mat<D>& /*d_omega*/, const Context&, StateRef) const {
+    update<D>(sigma, d_eps);
+  }
+  // The moduli of a point in its state: the time step's wave speed, the strain energy.
+  const LinearElastic& stiffness(StateRef) const { return *this; }
+  // Every stress is admissible.
+  Inadmissible outside(const Eigen::Vector3d& /*principal*/, StateRef) const { return {}; }
+  std::string describe() const { return {}; }
 
   // Recoverable elastic energy density of a stress state s: p^2 / 2K + s_dev : s_dev / 4G.
   template <int D>

@@ -1,14 +1,32 @@
 #pragma once
 // A named material: density plus one constitutive model. The model is a small value type chosen
 // once per material group (std::visit outside the particle loop), never per particle.
+//
+// A constitutive model M is a type with
+//   static constexpr std::string_view name;                 the input's `model = "..."`
+//   static constexpr std::array<StateField, N> state_fields; its per-point history (state_field.hpp)
+//   Context context() const;                                 what all its points share in a step
+//   template <int D> void update(Voigt<D>& sigma, const Voigt<D>& d_eps, const Mat<D>& d_omega,
+//                                const Context&, StateRef state) const;   one step of one point
+//   const LinearElastic& stiffness(StateRef) const;         current moduli: time step, energy
+//   Inadmissible outside(const Eigen::Vector3d& principal, StateRef) const;  starting-stress check
+//   std::string describe() const;                            its parameters, for the run summary
+// and is registered by adding it to ConstitutiveModel below (and its reader to
+// io/material_reader.cpp). Everything else - particle storage, frame fields, recorder quantities,
+// checkpoints, the time step - follows from these.
 #include "tsuchi/material/linear_elastic.hpp"
 #include "tsuchi/material/mohr_coulomb.hpp"
+#include "tsuchi/material/state_field.hpp"
 
+#include <array>
+#include <cstddef>
 #include <string>
 #include <variant>
+#include <vector>
 
 namespace tsuchi {
 
+// The registration: every constitutive model the program knows.
 using ConstitutiveModel = std::variant<LinearElastic, MohrCoulomb>;
 
 struct Material {
@@ -16,16 +34,61 @@ struct Material {
   double density = 0.0;  // kg/m^3
   ConstitutiveModel model;
 
-  // Elastic moduli drive the wave speed and the time step, whatever the model.
-  const LinearElastic& elastic() const {
-    return std::visit([](const auto& m) -> const LinearElastic& { return elastic_part(m); }, model);
+  std::string_view model_name() const {
+    return std::visit([](const auto& m) -> std::string_view { return m.name; }, model);
+  }
+};
+
+// Every state field of every registered model, each name once, in the order of ConstitutiveModel
+// and of each model's list: the particles' state columns (model/particle_fields.hpp).
+const std::vector<StateField>& material_state_fields();
+
+// Index in material_state_fields() of the field named `name`, or -1.
+int state_column(std::string_view name);
+
+// Column of each of M's state fields, in M's order.
+template <class M>
+const std::array<int, M::state_fields.size()>& state_columns_of() {
+  static const std::array<int, M::state_fields.size()> columns = [] {
+    std::array<int, M::state_fields.size()> c{};
+    for (std::size_t k = 0; k < c.size(); ++k) c[k] = state_column(M::state_fields[k].name);
+    return c;
+  }();
+  return columns;
+}
+
+// The state of a single point (an element test, a check of a starting stress), every field at its
+// initial value to start with; copies are independent points.
+template <class M>
+class PointStateOf {
+ public:
+  static constexpr std::size_t N = M::state_fields.size();
+  PointStateOf() {
+    for (std::size_t k = 0; k < N; ++k) value_[k] = M::state_fields[k].initial;
+  }
+  PointStateOf(const PointStateOf& o) : value_(o.value_) {}
+  PointStateOf& operator=(const PointStateOf& o) {
+    value_ = o.value_;
+    return *this;
+  }
+  // For the model's update: column k points at field k (rebuilt on each call, so copies stay apart).
+  StateRef ref() {
+    for (std::size_t k = 0; k < N; ++k) column_[k] = &value_[k];
+    return {column_.data(), 0};
+  }
+  // The field named `name`, 0 when the model has none.
+  double field(std::string_view name) const {
+    for (std::size_t k = 0; k < N; ++k)
+      if (M::state_fields[k].name == name) return value_[k];
+    return 0.0;
   }
 
-  bool is_plastic() const { return std::holds_alternative<MohrCoulomb>(model); }
-
  private:
-  static const LinearElastic& elastic_part(const LinearElastic& m) { return m; }
-  static const LinearElastic& elastic_part(const MohrCoulomb& m) { return m.elastic; }
+  std::array<double, N> value_{};
+  std::array<double*, N> column_{};
 };
+
+// Whether the model of `m` has a state field named `name`.
+bool has_state_field(const Material& m, std::string_view name);
 
 }  // namespace tsuchi

@@ -19,9 +19,14 @@
 #include "tsuchi/material/linear_elastic.hpp"
 #include "tsuchi/material/mohr_coulomb_return.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
+#include <string>
 
 namespace tsuchi {
 
@@ -49,6 +54,17 @@ struct PlasticPoint {
 };
 
 struct MohrCoulomb {
+  static constexpr std::string_view name = "mohr_coulomb";
+  // The state of a point (material/state_field.hpp), in this order.
+  enum StateIndex : std::size_t { kMode, kPlasticShear, kPlasticVolume, kCohesionFactor, kFrictionFactor };
+  static constexpr std::array<StateField, 5> state_fields{{
+      {"yield_mode", "", 0.0, true, "yielded", "surface the stress ended on in the last step: 0 elastic, 1 shear, 2 tension"},
+      {"plastic_shear_strain", "", 0.0, false, "", "accumulated eps1_p - eps3_p of the plastic strain increments"},
+      {"plastic_volumetric_strain", "", 0.0, false, "", "accumulated plastic volumetric strain, dilation positive"},
+      {"cohesion_factor", "", 1.0, false, "", "c of the point / c of the material: 1 + d of the imperfection"},
+      {"friction_factor", "", 1.0, false, "", "phi of the point / phi of the material: 1 + d of the imperfection"},
+  }};
+
   LinearElastic elastic;
   double cohesion = 0.0;  // c (Pa)
   double phi = 0.0;       // friction angle (rad)
@@ -200,6 +216,51 @@ struct MohrCoulomb {
     elastic.update<D>(sigma, d_eps);
     state.mode = YieldMode::Elastic;
     return correct<D>(sigma, strength(c_scale, phi_scale, m), state);
+  }
+
+  // The constitutive model interface (material/material.hpp): one step of a point with state s;
+  // the stress has been rotated (Jaumann, eq 22) by the caller. The context is what every point
+  // of the material shares, computed once per step.
+  using Context = Shared;
+  Context context() const { return shared(); }
+  template <int D>
+  void update(Voigt<D>& sigma, const Voigt<D>& d_eps, const Mat<D>& /*d_omega*/, const Context& m, StateRef s) const {
+    PlasticPoint point{YieldMode::Elastic, s[kPlasticShear], s[kPlasticVolume]};
+    s[kMode] = static_cast<double>(update<D>(sigma, d_eps, point, s[kCohesionFactor], s[kFrictionFactor], m));
+    s[kPlasticShear] = point.plastic_shear;
+    s[kPlasticVolume] = point.plastic_volume;
+  }
+  // The moduli of a point: perfectly plastic, so always the elastic ones.
+  const LinearElastic& stiffness(StateRef) const { return elastic; }
+
+  Inadmissible outside(const Eigen::Vector3d& principal, StateRef s) const {
+    const Strength st = strength(s[kCohesionFactor], s[kFrictionFactor]);
+    switch (beyond(principal, st)) {
+      case Beyond::Nothing: return {};
+      case Beyond::Shear: return {"Mohr-Coulomb shear", "Mohr-Coulomb", "beyond its shear strength"};
+      case Beyond::Tension:
+        return {"tension cut-off", "Mohr-Coulomb", fmt::format("beyond its tension strength {:g} Pa", st.sigma_t)};
+    }
+    return {};
+  }
+
+  // A K0 profile outside the surface: what k0 must satisfy (with c = 0).
+  static constexpr std::string_view k0_hint = "with c = 0 a K0 state needs 1/N_phi <= k0 <= N_phi";
+
+  // Why an imperfection of this amplitude cannot apply, or "".
+  std::string imperfection_limit(double amplitude, bool /*cohesion*/, bool friction) const {
+    constexpr double deg = 180.0 / std::numbers::pi;
+    if (friction && phi * (1.0 + amplitude) * deg >= 90.0)
+      return fmt::format("friction angle {} degrees times (1 + {}) reaches 90 degrees", phi * deg, amplitude);
+    return {};
+  }
+
+  std::string describe() const {
+    constexpr double deg = 180.0 / std::numbers::pi;
+    return fmt::format(", c = {:.6g} Pa, phi = {:.6g} deg, psi = {:.6g} deg, tension strength {:.6g} Pa "
+                       "({} rule, {} selection)",
+                       cohesion, phi * deg, psi * deg, tension, tension_rule == TensionRule::Flac ? "flac" : "paper",
+                       tension_selection == TensionSelection::Flac ? "flac" : "paper");
   }
 };
 

@@ -4,8 +4,8 @@
 #include "tsuchi/core/expression.hpp"
 #include "tsuchi/model/imperfection.hpp"
 #include "tsuchi/model/initial_stress.hpp"
+#include "tsuchi/model/material_state.hpp"
 #include "tsuchi/grid/block_schedule.hpp"
-#include "tsuchi/solver/recorder.hpp"
 
 #include <fmt/format.h>
 
@@ -79,10 +79,14 @@ void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m
   const GeostaticFrame frame = geostatic_frame(c, b);
   ImperfectionField field(b.imperfection);
   const bool imperfect = b.imperfection.amplitude > 0.0 && (b.imperfection.cohesion || b.imperfection.friction);
+  // The imperfection scales the strength factors of the material's state (the input reader has
+  // checked that its model has them).
+  std::vector<double>* c_factor = imperfect ? p.state_column("cohesion_factor") : nullptr;
+  std::vector<double>* phi_factor = imperfect ? p.state_column("friction_factor") : nullptr;
   for (std::size_t q = start; q < p.size(); ++q) {
     p.sigma_p[q] = initial_stress<D>(b.initial_stress, frame, mat.density, p.x_p[q]);
     if (b.initial_stress.subtract) p.sigma0_p[q] = p.sigma_p[q];
-    if (imperfect) field.next(p.c_scale_p[q], p.phi_scale_p[q]);
+    if (imperfect) field.next((*c_factor)[q], (*phi_factor)[q]);
   }
   if (b.initial_stress.subtract && b.initial_stress.kind != InitialStressConfig::Kind::None) {
     const auto& t = b.initial_stress.tensor;
@@ -90,25 +94,27 @@ void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m
                            t[1] == t[2] && t[3] == 0.0 && t[4] == 0.0 && t[5] == 0.0;
     m.rotate_initial_stress = m.rotate_initial_stress || !isotropic;
   }
-  const auto* mc = std::get_if<MohrCoulomb>(&mat.model);
-  if (!mc || b.initial_stress.kind == InitialStressConfig::Kind::None) return;
-  for (std::size_t q = start; q < p.size(); ++q) {
-    const auto s = mc->strength(p.c_scale_p[q], p.phi_scale_p[q]);
-    const Eigen::Vector3d v = PrincipalFrame<D>(p.sigma_p[q]).values;
-    const auto beyond = MohrCoulomb::beyond(v, s);
-    if (beyond != MohrCoulomb::Beyond::Nothing) {
-      std::string at;
-      for (int d = 0; d < D; ++d) at += fmt::format("{}{:.6g}", d ? ", " : "", p.x_p[q][d]);
-      throw InputError(fmt::format(
-          "{}: key 'bodies.{}.initial_stress': the initial stress of body \"{}\" lies outside the {} "
-          "surface of material \"{}\" at ({}): principal stresses {:.6g}, {:.6g}, {:.6g} Pa{}",
-          c.source, body, b.name, beyond == MohrCoulomb::Beyond::Shear ? "Mohr-Coulomb shear" : "tension cut-off", mat.name, at,
-          v[0], v[1], v[2],
-          b.initial_stress.kind == InitialStressConfig::Kind::K0
-              ? "; with c = 0 a K0 state needs 1/N_phi <= k0 <= N_phi"
-              : ""));
-    }
-  }
+  if (b.initial_stress.kind == InitialStressConfig::Kind::None) return;
+  std::visit(
+      [&](const auto& model) {
+        using M = std::decay_t<decltype(model)>;
+        const auto cols = state_columns<M>(p);
+        for (std::size_t q = start; q < p.size(); ++q) {
+          const Eigen::Vector3d v = PrincipalFrame<D>(p.sigma_p[q]).values;
+          const Inadmissible beyond = model.outside(v, StateRef{cols.data(), q});
+          if (!beyond.any()) continue;
+          std::string at;
+          for (int d = 0; d < D; ++d) at += fmt::format("{}{:.6g}", d ? ", " : "", p.x_p[q][d]);
+          std::string hint;
+          if constexpr (requires { M::k0_hint; })
+            if (b.initial_stress.kind == InitialStressConfig::Kind::K0) hint = fmt::format("; {}", M::k0_hint);
+          throw InputError(fmt::format(
+              "{}: key 'bodies.{}.initial_stress': the initial stress of body \"{}\" lies outside the {} "
+              "surface of material \"{}\" at ({}): principal stresses {:.6g}, {:.6g}, {:.6g} Pa{}",
+              c.source, body, b.name, beyond.surface, mat.name, at, v[0], v[1], v[2], hint));
+        }
+      },
+      mat.model);
 }
 
 // The particle lattice of a body: spacing h / n per axis, aligned with the grid.
@@ -258,7 +264,17 @@ Model<D> build_model(const Config& c) {
     throw InputError(fmt::format("{}: model.dimension is {}, but a {}D model was asked for", c.source,
                                  c.dimension, D));
   Model<D> m;
-  m.config = c;
+  m.source = c.source;
+  m.fingerprint = c.fingerprint;
+  m.materials = c.materials;
+  for (const auto& b : c.bodies) m.body_names.push_back(b.name);
+  m.step.scheme = c.solver.scheme;
+  m.step.kernel = c.solver.shape;
+  m.step.pic_fraction = c.solver.pic_fraction;
+  m.step.damping = c.solver.damping;
+  for (int d = 0; d < D; ++d) m.step.gravity[d] = c.gravity[d];
+  m.step.sort_interval = c.solver.sort_interval;
+  declare_state_columns(m.particles);
   for (int d = 0; d < D; ++d) {
     m.grid.origin[d] = c.grid.origin[d];
     m.grid.n_nodes[d] = c.grid.cells[d] + 1;
@@ -281,9 +297,8 @@ Model<D> build_model(const Config& c) {
   BlockSchedule<D> blocks;
   blocks.build(m.grid, m.particles.x_p);
   m.particles.permute(blocks.order());
-  for (const auto& r : c.recorders) Recorder<D>(r, m);  // an empty particle set is an input error, found now
   const auto& mp = m.particles.m_p;
-  m.node_mass_floor = c.solver.mass_threshold * *std::min_element(mp.begin(), mp.end());
+  m.step.node_mass_floor = c.solver.mass_threshold * *std::min_element(mp.begin(), mp.end());
   return m;
 }
 

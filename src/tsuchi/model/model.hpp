@@ -1,10 +1,14 @@
 #pragma once
-// A model ready to step: the grid with its boundary conditions and the particles of every body,
-// built from a validated Config.
+// A model ready to step: the grid with its boundary conditions, the particles of every body, the
+// materials and the step's settings, built from a validated Config. Physics only: the run's time,
+// output, checkpoint and recorder settings stay in the Config, for the run loop (run/).
 #include "tsuchi/grid/grid.hpp"
+#include "tsuchi/material/material.hpp"
 #include "tsuchi/model/config.hpp"
+#include "tsuchi/model/step_settings.hpp"
 #include "tsuchi/particles/particles.hpp"
 
+#include <string>
 #include <vector>
 
 namespace tsuchi {
@@ -22,17 +26,18 @@ struct BodyMotion {
 
 template <int D>
 struct Model {
-  Config config;
+  std::string source;             // the input file, for messages
+  std::uint64_t fingerprint = 0;  // Config::fingerprint: a checkpoint restarts only the same physics
+  std::vector<Material> materials;
+  std::vector<std::string> body_names;
+  StepSettings<D> step;
   Grid<D> grid;
   Particles<D> particles;
   std::vector<BodyMotion<D>> motion;        // one per body
   std::vector<std::size_t> body_particles;  // particle count per body
-  double node_mass_floor = 0.0;             // nodes lighter than this are skipped (kg)
   bool rotate_initial_stress = false;       // some body holds an anisotropic sigma0 by eq (2)
 
-  std::size_t bytes() const {
-    return grid.bytes() + particles.size() * Particles<D>::bytes_per_particle();
-  }
+  std::size_t bytes() const { return grid.bytes() + particles.size() * particles.bytes_per_particle(); }
 };
 
 // Peak memory of a run in bytes, from its grid slots (Grid::size) and particle count: the model
@@ -40,7 +45,8 @@ struct Model {
 // the model for 1e6 particles, BENCHMARKS.md), plus 32 MB for the program.
 template <int D>
 double memory_estimate(double grid_slots, double particles) {
-  const double model = grid_slots * Grid<D>::bytes_per_slot() + particles * Particles<D>::bytes_per_particle();
+  const double per_particle = static_cast<double>(Particles<D>::bytes_per_particle(material_state_fields().size()));
+  const double model = grid_slots * Grid<D>::bytes_per_slot() + particles * per_particle;
   return 1.25 * model + 32e6;
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -21,25 +22,42 @@ struct Particles {
   std::vector<Voigt<D>> sigma_p;  // Cauchy stress, tension positive (Pa)
   std::vector<Voigt<D>> sigma0_p; // initial stress subtracted in the internal force, eq (2)
   std::vector<Voigt<D>> eps_p;    // accumulated small strain, eq (10b)
-  // Mohr-Coulomb history and strength imperfection (untouched for elastic materials).
-  std::vector<std::uint8_t> yield_p;       // YieldMode of the last step: 0 elastic, 1 shear, 2 tension
-  std::vector<double> plastic_shear_p;     // accumulated plastic shear strain (eps1_p - eps3_p)
-  std::vector<double> plastic_volume_p;    // accumulated plastic volumetric strain, dilation positive
-  std::vector<double> c_scale_p;           // cohesion factor 1 + d of the imperfection
-  std::vector<double> phi_scale_p;         // friction-angle factor 1 + d
+  // Material state: one column per state field of the registered constitutive models, named and
+  // given its initial value by set_state_columns() (the model builder passes the registry,
+  // material_state_fields()). A material updates only the columns of its own fields.
+  std::vector<std::vector<double>> state;
+  std::vector<std::string> state_name;
+  std::vector<double> state_initial;
   std::vector<std::int32_t> material_p;
   std::vector<std::int32_t> body_p;
   std::vector<std::int32_t> id_p;  // stable identity, survives reordering
 
   std::size_t size() const { return x_p.size(); }
 
+  // Declares the state columns, before any particle is added.
+  void set_state_columns(std::vector<std::string> names, std::vector<double> initial) {
+    state_name = std::move(names);
+    state_initial = std::move(initial);
+    state.assign(state_name.size(), std::vector<double>(size()));
+    for (std::size_t k = 0; k < state.size(); ++k) std::fill(state[k].begin(), state[k].end(), state_initial[k]);
+  }
+  // The column of the state field `name`, or nullptr.
+  std::vector<double>* state_column(const std::string& name) {
+    for (std::size_t k = 0; k < state_name.size(); ++k)
+      if (state_name[k] == name) return &state[k];
+    return nullptr;
+  }
+  const std::vector<double>* state_column(const std::string& name) const {
+    return const_cast<Particles*>(this)->state_column(name);
+  }
+
   // Calls f(name, array) for every per-particle array: the one list that resizing, reordering and
   // checkpoints go through, so a new field cannot be forgotten by one of them.
   template <class F>
   void for_each_array(F&& f) {
     f("x", x_p), f("u", u_p), f("v", v_p), f("l", l_p), f("m", m_p), f("V", V_p), f("sigma", sigma_p);
-    f("sigma0", sigma0_p), f("eps", eps_p), f("yield", yield_p), f("plastic_shear", plastic_shear_p);
-    f("plastic_volume", plastic_volume_p), f("c_scale", c_scale_p), f("phi_scale", phi_scale_p);
+    f("sigma0", sigma0_p), f("eps", eps_p);
+    for (std::size_t k = 0; k < state.size(); ++k) f(state_name[k].c_str(), state[k]);
     f("material", material_p), f("body", body_p), f("id", id_p);
   }
   template <class F>
@@ -47,14 +65,13 @@ struct Particles {
     const_cast<Particles*>(this)->for_each_array([&](const char* name, const auto& a) { f(name, a); });
   }
 
-  // New particles are zero, except the strength factors, which are 1.
+  // New particles are zero, except their state, which takes each field's initial value.
   void resize(std::size_t n) {
-    const std::size_t old = size();
+    for (std::size_t k = 0; k < state.size(); ++k) state[k].resize(n, state_initial[k]);  // first: then at size n
     for_each_array([n](const char*, auto& a) {
       using T = typename std::decay_t<decltype(a)>::value_type;
       a.resize(n, zero_of<T>());
     });
-    for (std::size_t i = old; i < n; ++i) c_scale_p[i] = phi_scale_p[i] = 1.0;
   }
 
   // Reorders every array: particle k of the result is particle order[k] of this one. Ids move
@@ -84,10 +101,11 @@ struct Particles {
     permute(order, scratch);
   }
 
-  static constexpr std::size_t bytes_per_particle() {
-    return 4 * sizeof(Vec<D>) + 6 * sizeof(double) + 3 * sizeof(Voigt<D>) +
-           3 * sizeof(std::int32_t) + sizeof(std::uint8_t);
+  static constexpr std::size_t bytes_per_particle(std::size_t state_columns) {
+    return 4 * sizeof(Vec<D>) + (2 + state_columns) * sizeof(double) + 3 * sizeof(Voigt<D>) +
+           3 * sizeof(std::int32_t);
   }
+  std::size_t bytes_per_particle() const { return bytes_per_particle(state.size()); }
 };
 
 }  // namespace tsuchi

@@ -1,12 +1,14 @@
 #include "tsuchi/solver/explicit_step.hpp"
 
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/core/reduction.hpp"
 #include "tsuchi/shape/gimp.hpp"
 #include "tsuchi/shape/linear.hpp"
 #include "tsuchi/shape/stencil.hpp"
 #include "tsuchi/solver/damping.hpp"
 #include "tsuchi/solver/jaumann.hpp"
 #include "tsuchi/solver/particle_domain.hpp"
+#include "tsuchi/model/material_state.hpp"
 
 #include <fmt/format.h>
 
@@ -17,7 +19,7 @@ namespace tsuchi {
 
 template <int D>
 void ExplicitSolver<D>::step(double dt) {
-  switch (m_.config.solver.shape) {
+  switch (m_.step.kernel) {
     case ShapeKind::Linear: step_with<shape::LinearKernel>(dt); break;
     case ShapeKind::UGimp:
     case ShapeKind::Gimp: step_with<shape::GimpKernel>(dt); break;
@@ -31,7 +33,7 @@ template <class Kernel>
 void ExplicitSolver<D>::step_with(double dt) {
   auto& g = m_.grid;
   schedule_.build(g, m_.particles.x_p);  // every stage below uses the start-of-step positions
-  const std::int64_t sort = m_.config.solver.sort_interval;
+  const std::int64_t sort = m_.step.sort_interval;
   if (sort > 0 && steps_ > 0 && steps_ % sort == 0) {
     // The order depends on positions only, so every thread count sorts alike, and a restart at
     // the same step sorts alike.
@@ -39,7 +41,7 @@ void ExplicitSolver<D>::step_with(double dt) {
     schedule_.invalidate();
     schedule_.build(g, m_.particles.x_p);
   }
-  switch (m_.config.solver.scheme) {
+  switch (m_.step.scheme) {
     case Scheme::USF:
       // The GIMP domain update waits until the end of the step: the later stages must use the
       // same weights as the mass p2g, or momentum is not conserved.
@@ -91,8 +93,7 @@ void ExplicitSolver<D>::p2g() {
   if constexpr (MassMomentum && Force) zero_nodal(schedule_, g.m_g, g.p_g, g.f_g);
   else if constexpr (MassMomentum) zero_nodal(schedule_, g.m_g, g.p_g);
   else zero_nodal(schedule_, g.f_g);
-  Vec<D> b;
-  for (int d = 0; d < D; ++d) b[d] = m_.config.gravity[d];
+  const Vec<D> b = m_.step.gravity;
   schedule_.scatter([&](std::size_t i) {
     // Local copies of the array addresses: Eigen's vector stores may alias anything, and would
     // otherwise make the compiler reload every vector's address after each node's update.
@@ -131,7 +132,7 @@ void ExplicitSolver<D>::p2g() {
 template <int D>
 inline Vec<D> ExplicitSolver<D>::velocity_at(std::int64_t k) const {
   const auto& g = m_.grid;
-  Vec<D> v = g.m_g[k] > m_.node_mass_floor ? Vec<D>(g.p_g[k] / g.m_g[k]) : Vec<D>::Zero();
+  Vec<D> v = g.m_g[k] > m_.step.node_mass_floor ? Vec<D>(g.p_g[k] / g.m_g[k]) : Vec<D>::Zero();
   for (int d = 0; d < D; ++d)
     if (g.fixed_g[k] & (1u << d)) v[d] = 0.0;
   return v;
@@ -143,10 +144,10 @@ template <int D>
 inline Vec<D> ExplicitSolver<D>::acceleration_at(std::int64_t k, const Vec<D>& v) const {
   const auto& g = m_.grid;
   Vec<D> a = Vec<D>::Zero();
-  if (g.m_g[k] > m_.node_mass_floor) {
+  if (g.m_g[k] > m_.step.node_mass_floor) {
     for (int d = 0; d < D; ++d) {
       const double f = g.f_g[k][d];
-      a[d] = (f + local_damping_force(f, v[d], m_.config.solver.damping)) / g.m_g[k];
+      a[d] = (f + local_damping_force(f, v[d], m_.step.damping)) / g.m_g[k];
       if (g.fixed_g[k] & (1u << d)) a[d] = 0.0;
     }
   }
@@ -192,7 +193,7 @@ template <class Kernel>
 void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
   auto& g = m_.grid;
   auto& p = m_.particles;
-  const double beta = m_.config.solver.pic_fraction;
+  const double beta = m_.step.pic_fraction;
   const auto particle = [&](std::size_t i) {
     const Vec<D>* const a_g = g.a_g.data();  // local addresses: see p2g
     const Vec<D>* const vL_g = g.vL_g.data();
@@ -241,10 +242,10 @@ template <class Kernel, bool Move>
 void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_strain) {
   auto& g = m_.grid;
   auto& p = m_.particles;
-  const bool domain_update = m_.config.solver.shape == ShapeKind::Gimp;
+  const bool domain_update = m_.step.domain_update();
   const bool defer_domain = !Move;  // USF: the step's later stages still need this step's weights
   if (domain_update && defer_domain) deferred_eps_.resize(p.size());
-  const auto& materials = m_.config.materials;
+  const auto& materials = m_.materials;
   // An anisotropic initial stress held by eq (2) turns with the material, as the stress does.
   const bool rotate_sigma0 = m_.rotate_initial_stress;
   // One parallel region for every material group; a thread goes on to the next group without
@@ -253,9 +254,9 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
   for (std::size_t mat = 0; mat < materials.size(); ++mat) {
     std::visit(
         [&](const auto& model) {
-          using Model = std::decay_t<decltype(model)>;
-          [[maybe_unused]] MohrCoulomb::Shared shared{};
-          if constexpr (std::is_same_v<Model, MohrCoulomb>) shared = model.shared();
+          using M = std::decay_t<decltype(model)>;
+          const typename M::Context context = model.context();
+          const auto state = state_columns<M>(p);
           const auto np = static_cast<std::int64_t>(p.size());
           // Dynamic: yielding points cost several times more than elastic ones, and they gather
           // in the shear bands. Every point's update is its own, so the result does not depend on
@@ -287,15 +288,7 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
             jaumann_rotate(p.sigma_p[i], d_omega);
             if (rotate_sigma0) jaumann_rotate(p.sigma0_p[i], d_omega);
-            if constexpr (std::is_same_v<Model, MohrCoulomb>) {
-              PlasticPoint state{YieldMode::Elastic, p.plastic_shear_p[i], p.plastic_volume_p[i]};
-              p.yield_p[i] = static_cast<std::uint8_t>(
-                  model.template update<D>(p.sigma_p[i], d_eps, state, p.c_scale_p[i], p.phi_scale_p[i], shared));
-              p.plastic_shear_p[i] = state.plastic_shear;
-              p.plastic_volume_p[i] = state.plastic_volume;
-            } else {
-              model.template update<D>(p.sigma_p[i], d_eps);
-            }
+            model.template update<D>(p.sigma_p[i], d_eps, d_omega, context, StateRef{state.data(), i});
             p.eps_p[i] += d_eps;
             const double J = 1.0 + trace<D>(d_eps);
             if (!p.sigma_p[i].allFinite() || !std::isfinite(J)) note_fault(nonfinite_, i);
@@ -338,7 +331,7 @@ inline void ExplicitSolver<D>::move_particle(std::size_t i, double dt, Vec<D> vL
 
 template <int D>
 void ExplicitSolver<D>::apply_deferred_domain_update() {
-  if (m_.config.solver.shape != ShapeKind::Gimp) return;
+  if (!m_.step.domain_update()) return;
   auto& p = m_.particles;
   const auto np = static_cast<std::int64_t>(p.size());
 #pragma omp parallel for schedule(static)
@@ -359,26 +352,28 @@ std::string ExplicitSolver<D>::describe_particle(std::size_t i) const {
   const auto& p = m_.particles;
   std::string pos;
   for (int d = 0; d < D; ++d) pos += fmt::format("{}{:.6g}", d ? ", " : "", p.x_p[i][d]);
-  return fmt::format("particle {} of body \"{}\" at ({})", p.id_p[i], m_.config.bodies[p.body_p[i]].name, pos);
+  return fmt::format("particle {} of body \"{}\" at ({})", p.id_p[i], m_.body_names[static_cast<std::size_t>(p.body_p[i])], pos);
 }
 
 // A step with a fault is thrown away whole; the first kind found (in this order) is reported.
 template <int D>
 void ExplicitSolver<D>::report_faults() const {
   const std::string when = fmt::format("step {} (t = {:.6g} s)", steps_ + 1, time_);
-  if (nonfinite_ >= 0)
+  const std::int64_t nonfinite = reduce::first(nonfinite_), inverted = reduce::first(inverted_),
+                     escaped = reduce::first(escaped_);
+  if (nonfinite >= 0)
     throw RunError(fmt::format("{}: {} got a non-finite stress, velocity or volume; the run is unstable there: "
                                "reduce time.courant, add solver.damping, or check the material parameters",
-                               when, describe_particle(static_cast<std::size_t>(nonfinite_))),
+                               when, describe_particle(static_cast<std::size_t>(nonfinite))),
                    Fault::NonFinite);
-  if (inverted_ >= 0)
+  if (inverted >= 0)
     throw RunError(fmt::format("{}: {} was compressed to zero or negative volume in one step; reduce the time "
                                "step (time.courant) or the loading speed",
-                               when, describe_particle(static_cast<std::size_t>(inverted_))),
+                               when, describe_particle(static_cast<std::size_t>(inverted))),
                    Fault::VolumeCollapse);
-  if (escaped_ >= 0)
+  if (escaped >= 0)
     throw RunError(fmt::format("{}: {} left the grid; enlarge grid.extent or fix the boundary it crossed", when,
-                               describe_particle(static_cast<std::size_t>(escaped_))),
+                               describe_particle(static_cast<std::size_t>(escaped))),
                    Fault::LeftGrid);
 }
 

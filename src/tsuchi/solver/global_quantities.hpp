@@ -1,5 +1,7 @@
 #pragma once
 // Whole-model sums for the global CSV and for conservation checks.
+#include "tsuchi/core/reduction.hpp"
+#include "tsuchi/model/material_state.hpp"
 #include "tsuchi/model/model.hpp"
 
 namespace tsuchi {
@@ -17,16 +19,20 @@ template <int D>
 GlobalQuantities<D> global_quantities(const Model<D>& m) {
   GlobalQuantities<D> q;
   const auto& p = m.particles;
-  Vec<D> b;
-  for (int d = 0; d < D; ++d) b[d] = m.config.gravity[d];
+  const Vec<D> b = m.step.gravity;
   for (std::size_t i = 0; i < p.size(); ++i) {
     q.mass += p.m_p[i];
     q.momentum += p.m_p[i] * p.v_p[i];
     q.kinetic_energy += 0.5 * p.m_p[i] * p.v_p[i].squaredNorm();
     q.gravity_potential -= p.m_p[i] * b.dot(p.x_p[i] - m.grid.origin);
     const Voigt<D> s = p.sigma_p[i] - p.sigma0_p[i];
-    q.strain_energy += p.V_p[i] * m.config.materials[p.material_p[i]].elastic().template energy_density<D>(s);
+    q.strain_energy += p.V_p[i] * stiffness_of(m.materials[static_cast<std::size_t>(p.material_p[i])], p, i).template energy_density<D>(s);
   }
+  q.mass = reduce::sum(q.mass);
+  q.kinetic_energy = reduce::sum(q.kinetic_energy);
+  q.strain_energy = reduce::sum(q.strain_energy);
+  q.gravity_potential = reduce::sum(q.gravity_potential);
+  for (int d = 0; d < D; ++d) q.momentum[d] = reduce::sum(q.momentum[d]);
   return q;
 }
 

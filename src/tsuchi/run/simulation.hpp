@@ -1,6 +1,7 @@
 #pragma once
 // The time loop of a run: picks each step's dt, steps, and hands results to the output writer on
 // schedule. Output times and the end time are hit exactly (the step before is shortened).
+#include "tsuchi/model/config.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/solver/explicit_step.hpp"
 
@@ -81,13 +82,15 @@ inline constexpr double frame_limit = 1e5;
 // there is one.
 void check_run_length(const Config& config, double dt, double from_time = 0.0);
 
+// Runs `model`, built from `config`, under the config's time, output, checkpoint and recorder
+// settings.
 template <int D>
-RunSummary run_simulation(Model<D>& model, const RunOptions& options,
+RunSummary run_simulation(Model<D>& model, const Config& config, const RunOptions& options,
                           const std::function<void(const ExplicitSolver<D>&)>& after_step = {});
 
-extern template RunSummary run_simulation<2>(Model<2>&, const RunOptions&,
+extern template RunSummary run_simulation<2>(Model<2>&, const Config&, const RunOptions&,
                                              const std::function<void(const ExplicitSolver<2>&)>&);
-extern template RunSummary run_simulation<3>(Model<3>&, const RunOptions&,
+extern template RunSummary run_simulation<3>(Model<3>&, const Config&, const RunOptions&,
                                              const std::function<void(const ExplicitSolver<3>&)>&);
 
 }  // namespace tsuchi

@@ -1,23 +1,23 @@
 #pragma once
 // Recorders: one number per row of recorders.csv, a reduction (mean, sum, min, max) of one
-// per-particle quantity over a particle set chosen once, at the start, by body and by a box of
-// initial positions. What a lab measures (a platen's displacement, the mean stress on a boundary
-// row) is written as recorders in the input file rather than coded per case.
+// per-particle quantity (model/particle_fields.hpp) over a particle set chosen once, at the
+// start, by body and by a box of initial positions. What a lab measures (a platen's displacement,
+// the mean stress on a boundary row) is written as recorders in the input file rather than coded
+// per case.
+#include "tsuchi/model/config.hpp"
 #include "tsuchi/model/model.hpp"
+#include "tsuchi/model/particle_fields.hpp"
 
 #include <string>
 #include <vector>
 
 namespace tsuchi {
 
-// The per-particle quantity names a recorder accepts, for messages and docs.
-const std::vector<std::string>& recorder_quantities(int dimension);
-bool is_recorder_quantity(const std::string& name, int dimension);
-
 template <int D>
 class Recorder {
  public:
-  Recorder(const RecorderConfig& config, const Model<D>& model);
+  // Throws InputError (naming `index`, its place in the input's recorders) when the set is empty.
+  Recorder(const RecorderConfig& config, std::size_t index, const Model<D>& model);
 
   double value(const Particles<D>& p) const;  // scale * reduction + offset
   const RecorderConfig& config() const { return c_; }
@@ -26,9 +26,9 @@ class Recorder {
   std::string stop_reason(double value) const;
 
  private:
-  double particle_value(const Particles<D>& p, std::size_t i) const;
-
   RecorderConfig c_;
+  const ParticleField* field_ = nullptr;
+  int component_ = 0;
   // Membership by particle id, not storage index: particles are reordered during a run (and a
   // restart brings them back in the saved order), while ids stay with their particles.
   std::vector<std::uint8_t> member_;
@@ -38,10 +38,15 @@ class Recorder {
   mutable std::vector<std::size_t> index_;
   mutable std::vector<std::int32_t> index_id_;
   const std::vector<std::size_t>& indices(const Particles<D>& p) const;
-  int kind_ = 0, component_ = 0;
 };
+
+// The recorders of an input, each with its particle set chosen on the model's initial state.
+template <int D>
+std::vector<Recorder<D>> make_recorders(const Config& config, const Model<D>& model);
 
 extern template class Recorder<2>;
 extern template class Recorder<3>;
+extern template std::vector<Recorder<2>> make_recorders<2>(const Config&, const Model<2>&);
+extern template std::vector<Recorder<3>> make_recorders<3>(const Config&, const Model<3>&);
 
 }  // namespace tsuchi

@@ -1,11 +1,11 @@
-#include "tsuchi/solver/simulation.hpp"
+#include "tsuchi/run/simulation.hpp"
 
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/interrupt.hpp"
 #include "tsuchi/io/atomic_file.hpp"
 #include "tsuchi/io/checkpoint.hpp"
 #include "tsuchi/io/output_writer.hpp"
-#include "tsuchi/solver/recorder.hpp"
+#include "tsuchi/run/recorder.hpp"
 #include "tsuchi/solver/time_step.hpp"
 
 #include <fmt/format.h>
@@ -124,28 +124,34 @@ std::string checkpoint_path(const Config& config, const std::string& output_dire
 }
 
 template <int D>
-RunSummary run_simulation(Model<D>& model, const RunOptions& options,
+RunSummary run_simulation(Model<D>& model, const Config& config, const RunOptions& options,
                           const std::function<void(const ExplicitSolver<D>&)>& after_step) {
   using clock = std::chrono::steady_clock;
   const auto wall_start = clock::now();
-  const TimeConfig& tc = model.config.time;
-  const OutputConfig& oc = model.config.output;
-  const CheckpointConfig& kc = model.config.checkpoint;
+  const TimeConfig& tc = config.time;
+  const OutputConfig& oc = config.output;
+  const CheckpointConfig& kc = config.checkpoint;
   const double end = tc.end;
 
   ExplicitSolver<D> solver(model);
   const std::string dir = options.output_directory.value_or(oc.directory);
-  const std::string ck_path = checkpoint_path(model.config, dir);
+  const std::string ck_path = checkpoint_path(config, dir);
   // Particle sets are chosen on the initial state, before a checkpoint replaces it.
-  std::vector<Recorder<D>> recorders;
-  for (const auto& rc : model.config.recorders) recorders.emplace_back(rc, model);
+  const std::vector<Recorder<D>> recorders = make_recorders<D>(config, model);
+  std::vector<std::string> recorder_names;
+  for (const auto& r : recorders) recorder_names.push_back(r.config().name);
+  std::vector<double> recorder_values(recorders.size());
+  auto recorder_row = [&]() -> const std::vector<double>& {
+    for (std::size_t k = 0; k < recorders.size(); ++k) recorder_values[k] = recorders[k].value(model.particles);
+    return recorder_values;
+  };
   // Where each recorder with a stop bound starts (the initial state, also for a restart), for the
   // progress it makes towards the bound.
   std::vector<double> recorder_start(recorders.size(), 0.0);
   for (std::size_t k = 0; k < recorders.size(); ++k)
     if (recorders[k].config().stop_above || recorders[k].config().stop_below)
       recorder_start[k] = recorders[k].value(model.particles);
-  if (options.write_output) check_output_paths(model.config, dir, ck_path);
+  if (options.write_output) check_output_paths(config, dir, ck_path);
   RunProgress start;
   if (options.restart) {
     start = read_checkpoint<D>(*options.restart, model);
@@ -153,29 +159,30 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
     if (start.time > end * (1.0 + 1e-12))
       throw InputError(fmt::format("{}: the checkpoint {} is at t = {:.9g} s, past time.end = {:.9g} s: nothing to "
                                    "run; give a later time.end (--set time.end=...)",
-                                   model.config.source, *options.restart, start.time, end));
+                                   config.source, *options.restart, start.time, end));
     solver.resume(start.time, start.steps);
   }
   // Check the first step before anything is written: a refused dt leaves the directory untouched.
-  double dt = next_time_step(tc, critical_time_step<D>(model.particles, model.config.materials, model.grid.h),
-                             0, model.config.source);
-  check_run_length(model.config, dt, start.time);
+  double dt = next_time_step(tc, critical_time_step<D>(model.particles, model.materials, model.grid.h), 0, config.source);
+  check_run_length(config, dt, start.time);
   if (options.restart && start.steps > 0) dt = start.dt;  // only for a final row; every later step recomputes it
 
   std::optional<OutputWriter<D>> out;
   if (options.write_output) {
-    out.emplace(model, dir, recorders, options.restart ? &start.output : nullptr);
+    out.emplace(model, oc, dir, recorder_names, options.restart ? &start.output : nullptr);
     prepare_checkpoint_directory(ck_path);  // a checkpoint hours later must not be the first to find it unwritable
-    if (!options.restart) {
-      out->global_row(0.0, 0, 0.0);
-      out->frame(0.0);
-    }
+  }
+  // Frames are labelled by time, or by the value of the output.frame_label recorder.
+  const Recorder<D>* label = oc.frame_label_recorder >= 0 ? &recorders[static_cast<std::size_t>(oc.frame_label_recorder)] : nullptr;
+  auto write_frame = [&](double time) { out->frame(label ? label->value(model.particles) : time); };
+  if (out && !options.restart) {
+    out->global_row(0.0, 0, 0.0, recorder_row());
+    write_frame(0.0);
   }
   std::string stopped_by;
   std::int64_t frame_index = start.frame_index, row_index = start.row_index, label_index = start.label_index;
   // Frames by a recorder's value (output.label_interval): one after the step that passes each
   // multiple k * label_interval, as rows of global.csv follow global_interval.
-  const Recorder<D>* label = oc.frame_label_recorder >= 0 ? &recorders[static_cast<std::size_t>(oc.frame_label_recorder)] : nullptr;
   auto label_due = [&](double value) {
     return label && oc.label_interval > 0.0 && value >= oc.label_interval * static_cast<double>(label_index);
   };
@@ -215,16 +222,16 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
       const double t = solver.time();
       if (solver.steps() > 0) {
         try {
-          dt = next_time_step(tc, critical_time_step<D>(model.particles, model.config.materials, model.grid.h),
-                              solver.steps(), model.config.source);
+          dt = next_time_step(tc, critical_time_step<D>(model.particles, model.materials, model.grid.h),
+                              solver.steps(), config.source);
         } catch (const RunError& e) {
           const RunError located(fmt::format("step {} (t = {:.6g} s): {}: {}", solver.steps() + 1, solver.time(),
-                                             solver.describe_particle(limiting_particle(model.particles, model.config.materials)), e.what()),
+                                             solver.describe_particle(limiting_particle(model.particles, model.materials)), e.what()),
                                  e.fault);
           // The state is still that of a good step: worth saving for a restart with a smaller dt.
           if (e.fault == Fault::UnstableStep && out) {
             save();
-            if (solver.time() > last_frame) out->frame(solver.time());
+            if (solver.time() > last_frame) write_frame(solver.time());
           }
           throw located;
         }
@@ -239,7 +246,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
       } catch (const RunError& e) {
         // A particle outside the grid or collapsed is worth seeing; a non-finite state is not, and
         // none of them can be stepped on, so no checkpoint.
-        if (out && e.fault != Fault::NonFinite) out->frame(solver.time() + dt);
+        if (out && e.fault != Fault::NonFinite) write_frame(solver.time() + dt);
         throw;
       }
       const double now = solver.time();
@@ -247,7 +254,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
       if (after_step) after_step(solver);
       if (out) {
         if (oc.global_interval <= 0.0 || now >= next_row - tol) {
-          out->global_row(now, solver.steps(), dt);
+          out->global_row(now, solver.steps(), dt, recorder_row());
           last_row = now;
           if (oc.global_interval > 0.0) {
             row_index = static_cast<std::int64_t>(std::floor((now + tol) / oc.global_interval)) + 1;
@@ -263,7 +270,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
       const bool by_label = label_due(label_value);
       if (now >= next_frame - tol || by_label) {
         if (out) {
-          out->frame(now);
+          write_frame(now);
           last_frame = now;
         }
         while (next_frame <= now + tol && next_frame < end) next_frame = frame_time(++frame_index);
@@ -310,8 +317,7 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
     if (saved.first < 0) throw;
     throw RunError(fmt::format("{}\nthe latest checkpoint is step {}: {} (continue with {}{} --restart {})", e.what(),
                                saved.first, saved.second, options.resume_command,
-                               e.fault == Fault::UnstableStep && model.config.time.dt
-                                   ? fmt::format(" --set time.dt={:.3g}", 0.5 * *model.config.time.dt)
+                               e.fault == Fault::UnstableStep && tc.dt ? fmt::format(" --set time.dt={:.3g}", 0.5 * *tc.dt)
                                    : std::string{},
                                shell_word(saved.second)),
                    e.fault);
@@ -331,8 +337,8 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   }
   if (kc.enabled()) save();
   if (out) {
-    if (solver.time() > last_row) out->global_row(solver.time(), solver.steps(), dt);  // the final state
-    if (solver.time() > last_frame) out->frame(solver.time());
+    if (solver.time() > last_row) out->global_row(solver.time(), solver.steps(), dt, recorder_row());  // the final state
+    if (solver.time() > last_frame) write_frame(solver.time());
     out->flush_global();
   }
   RunSummary s;
@@ -346,9 +352,9 @@ RunSummary run_simulation(Model<D>& model, const RunOptions& options,
   return s;
 }
 
-template RunSummary run_simulation<2>(Model<2>&, const RunOptions&,
+template RunSummary run_simulation<2>(Model<2>&, const Config&, const RunOptions&,
                                       const std::function<void(const ExplicitSolver<2>&)>&);
-template RunSummary run_simulation<3>(Model<3>&, const RunOptions&,
+template RunSummary run_simulation<3>(Model<3>&, const Config&, const RunOptions&,
                                       const std::function<void(const ExplicitSolver<3>&)>&);
 
 }  // namespace tsuchi

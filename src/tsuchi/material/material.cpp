@@ -1,0 +1,43 @@
+#include "tsuchi/material/material.hpp"
+
+#include <algorithm>
+
+namespace tsuchi {
+
+namespace {
+
+template <class... M>
+std::vector<StateField> union_of_fields(std::variant<M...>*) {
+  std::vector<StateField> all;
+  const auto add = [&](const auto& fields) {
+    for (const StateField& f : fields)
+      if (std::none_of(all.begin(), all.end(), [&](const StateField& g) { return g.name == f.name; })) all.push_back(f);
+  };
+  (add(M::state_fields), ...);
+  return all;
+}
+
+}  // namespace
+
+const std::vector<StateField>& material_state_fields() {
+  static const std::vector<StateField> fields = union_of_fields(static_cast<ConstitutiveModel*>(nullptr));
+  return fields;
+}
+
+int state_column(std::string_view name) {
+  const auto& f = material_state_fields();
+  for (std::size_t k = 0; k < f.size(); ++k)
+    if (f[k].name == name) return static_cast<int>(k);
+  return -1;
+}
+
+bool has_state_field(const Material& m, std::string_view name) {
+  return std::visit(
+      [&](const auto& model) {
+        const auto& fields = std::decay_t<decltype(model)>::state_fields;
+        return std::any_of(fields.begin(), fields.end(), [&](const StateField& f) { return f.name == name; });
+      },
+      m.model);
+}
+
+}  // namespace tsuchi

@@ -1,0 +1,23 @@
+#include "tsuchi/model/config.hpp"
+
+namespace tsuchi {
+
+const char* to_string(Scheme s) {
+  switch (s) {
+    case Scheme::USF: return "USF";
+    case Scheme::USL: return "USL";
+    case Scheme::MUSL: return "MUSL";
+  }
+  return "?";
+}
+
+const char* to_string(ShapeKind s) {
+  switch (s) {
+    case ShapeKind::Linear: return "linear";
+    case ShapeKind::UGimp: return "ugimp";
+    case ShapeKind::Gimp: return "gimp";
+  }
+  return "?";
+}
+
+}  // namespace tsuchi

@@ -1,0 +1,99 @@
+#include "tsuchi/run/recorder.hpp"
+
+#include "tsuchi/core/reduction.hpp"
+
+#include "tsuchi/core/errors.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace tsuchi {
+
+template <int D>
+Recorder<D>::Recorder(const RecorderConfig& config, std::size_t index, const Model<D>& model) : c_(config) {
+  const auto q = find_recorder_quantity(c_.quantity, D);
+  if (!q) throw InputError(fmt::format("recorder \"{}\": unknown quantity \"{}\"", c_.name, c_.quantity));
+  field_ = q->first, component_ = q->second;
+  const auto& p = model.particles;
+  member_.assign(p.size(), 0);
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (c_.body >= 0 && p.body_p[i] != c_.body) continue;
+    const Vec<D> x0 = p.x_p[i] - p.u_p[i];
+    bool inside = true;
+    for (int d = 0; d < D; ++d) {
+      if (c_.min) inside = inside && x0[d] >= (*c_.min)[d];
+      if (c_.max) inside = inside && x0[d] <= (*c_.max)[d];
+    }
+    if (inside) member_[static_cast<std::size_t>(p.id_p[i])] = 1, ++count_;
+  }
+  if (reduce::sum(static_cast<double>(count_)) == 0.0)
+    throw InputError(fmt::format("{}: key 'recorders.{}': recorder \"{}\" selects no particle: no particle of {} starts "
+                                 "inside its box; expected a box (min, max) around some initial particle positions",
+                                 model.source, index, c_.name,
+                                 c_.body >= 0 ? fmt::format("body \"{}\"", model.body_names[static_cast<std::size_t>(c_.body)])
+                                              : std::string("any body")));
+}
+
+template <int D>
+std::vector<Recorder<D>> make_recorders(const Config& config, const Model<D>& model) {
+  std::vector<Recorder<D>> r;
+  for (std::size_t k = 0; k < config.recorders.size(); ++k) r.emplace_back(config.recorders[k], k, model);
+  return r;
+}
+
+template <int D>
+const std::vector<std::size_t>& Recorder<D>::indices(const Particles<D>& p) const {
+  bool valid = index_.size() == count_;
+  for (std::size_t k = 0; valid && k < index_.size(); ++k)
+    valid = index_[k] < p.size() && p.id_p[index_[k]] == index_id_[k];
+  if (!valid) {
+    index_.clear(), index_id_.clear();
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (member_[static_cast<std::size_t>(p.id_p[i])]) index_.push_back(i), index_id_.push_back(p.id_p[i]);
+  }
+  return index_;
+}
+
+template <int D>
+double Recorder<D>::value(const Particles<D>& p) const {
+  const auto& set = indices(p);
+  double r = 0.0;
+  switch (c_.reduction) {
+    case RecorderConfig::Reduction::Mean:
+    case RecorderConfig::Reduction::Sum:
+      for (auto i : set) r += field_value(*field_, p, i, component_);
+      r = reduce::sum(r);
+      if (c_.reduction == RecorderConfig::Reduction::Mean) r /= static_cast<double>(count_);
+      break;
+    case RecorderConfig::Reduction::Min:
+      r = std::numeric_limits<double>::infinity();
+      for (auto i : set) r = std::min(r, field_value(*field_, p, i, component_));
+      r = reduce::min(r);
+      break;
+    case RecorderConfig::Reduction::Max:
+      r = -std::numeric_limits<double>::infinity();
+      for (auto i : set) r = std::max(r, field_value(*field_, p, i, component_));
+      r = reduce::max(r);
+      break;
+  }
+  return c_.scale * r + c_.offset;
+}
+
+template <int D>
+std::string Recorder<D>::stop_reason(double v) const {
+  // Round-off must not cost a step: a platen that reaches its bound exactly at a frame time stops there.
+  const auto tol = [](double b) { return 1e-9 * std::max(1.0, std::abs(b)); };
+  if (c_.stop_above && v >= *c_.stop_above - tol(*c_.stop_above)) return fmt::format("{} reached {:.6g} (stop_above = {:.6g})", c_.name, v, *c_.stop_above);
+  if (c_.stop_below && v <= *c_.stop_below + tol(*c_.stop_below)) return fmt::format("{} reached {:.6g} (stop_below = {:.6g})", c_.name, v, *c_.stop_below);
+  return {};
+}
+
+template class Recorder<2>;
+template class Recorder<3>;
+template std::vector<Recorder<2>> make_recorders<2>(const Config&, const Model<2>&);
+template std::vector<Recorder<3>> make_recorders<3>(const Config&, const Model<3>&);
+
+}  // namespace tsuchi

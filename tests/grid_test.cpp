@@ -1,10 +1,16 @@
 // The tiled node storage: every node has one slot, index() and ijk() invert each other, the nodes
-// of a tile are contiguous, and padding slots are recognised as such.
+// of a tile are contiguous, and padding slots are recognised as such. The nodal fields. The block
+// schedule: blocks of one colour never write a common node, for any kernel reach, and the active
+// tiles hold every node a particle reaches.
+#include "tsuchi/grid/block_schedule.hpp"
 #include "tsuchi/grid/grid.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
 #include <set>
+#include <vector>
 
 namespace {
 
@@ -49,6 +55,86 @@ TEST(Grid, TiledLayout2D) {
 TEST(Grid, TiledLayout3D) {
   check_layout<3>({4, 4, 4});
   check_layout<3>({7, 5, 10});
+}
+
+TEST(Grid, OneNodalFieldUnlessAsked) {
+  Grid<2> g;
+  g.n_nodes = {9, 6};
+  g.allocate();
+  ASSERT_EQ(g.fields.size(), 1u);
+  EXPECT_EQ(g.field().m.size(), g.size());
+  EXPECT_EQ(g.field().vL.size(), g.size());
+  EXPECT_EQ(g.bytes(), g.size() * Grid<2>::bytes_per_slot());
+  const int k = g.add_field();
+  EXPECT_EQ(k, 1);
+  ASSERT_EQ(g.fields.size(), 2u);
+  EXPECT_EQ(g.field(1).p.size(), g.size());
+  EXPECT_EQ(g.field(1).m[3], 0.0);
+  EXPECT_EQ(g.bytes(), g.size() * (Grid<2>::bytes_per_slot() + NodalField<2>::bytes_per_slot()));
+}
+
+// Particles at random in a grid of n_nodes, scheduled for `reach`; checks the colouring and the
+// active tiles against the nodes each non-empty block's particles may write.
+template <int D>
+void check_schedule(const std::array<int, D>& n, typename BlockSchedule<D>::Reach reach) {
+  using S = BlockSchedule<D>;
+  Grid<D> g;
+  g.n_nodes = n;
+  g.h = 0.5;
+  g.index_axes();
+  std::mt19937_64 rng(7u);
+  std::vector<Vec<D>> x(400);
+  for (auto& p : x)
+    for (int d = 0; d < D; ++d) p[d] = std::uniform_real_distribution<double>(0.0, (n[d] - 1) * g.h)(rng);
+  S schedule;
+  schedule.build(g, x, reach);
+  int P = 1;
+  for (int d = 0; d < D; ++d) P *= S::colours_per_axis(reach);
+  ASSERT_EQ(static_cast<int>(schedule.colour_blocks().size()), P);
+  std::array<int, D> blocks{};
+  for (int d = 0; d < D; ++d) blocks[d] = (n[d] - 1 + S::B - 1) / S::B;
+  // Both loops may run on several threads: each writes only its own entries.
+  std::vector<unsigned char> active(g.size() / Grid<D>::kTileNodes, 0);
+  schedule.for_active_nodes([&](std::int64_t k) { active[static_cast<std::size_t>(k / Grid<D>::kTileNodes)] = 1; });
+  for (const auto& colour : schedule.colour_blocks()) {
+    std::set<std::int64_t> written;  // by the blocks of this colour
+    for (const std::int32_t b : colour) {
+      std::array<int, D> lo{}, hi{};
+      std::int64_t rest = b;
+      for (int d = 0; d < D; ++d) {
+        const int c = static_cast<int>(rest % blocks[d]);
+        rest /= blocks[d];
+        lo[d] = std::max(0, c * S::B - reach.below);
+        hi[d] = std::min(n[d] - 1, c * S::B + S::B + reach.above);
+      }
+      std::array<int, D> ijk = lo;
+      for (bool more = true; more;) {
+        const std::int64_t k = g.index(ijk);
+        ASSERT_TRUE(written.insert(k).second) << "two blocks of one colour write node " << k;
+        ASSERT_TRUE(active[static_cast<std::size_t>(k / Grid<D>::kTileNodes)]) << "node " << k << " in an inactive tile";
+        more = false;
+        for (int d = 0; d < D && !more; ++d) {
+          if (ijk[d] < hi[d]) ++ijk[d], more = true;
+          else ijk[d] = lo[d];
+        }
+      }
+    }
+  }
+  std::vector<int> visits(x.size(), 0);
+  schedule.scatter([&](std::size_t i) { ++visits[i]; });
+  EXPECT_EQ(std::count(visits.begin(), visits.end(), 1), static_cast<std::ptrdiff_t>(x.size()));
+}
+
+TEST(BlockSchedule, ColoursAndActiveTilesFollowTheReach) {
+  using S2 = BlockSchedule<2>;
+  for (const S2::Reach r : {S2::Reach{0, 0}, S2::Reach{1, 1}, S2::Reach{1, 2}, S2::Reach{2, 3}, S2::Reach{4, 4}})
+    check_schedule<2>({43, 30}, r);
+  using S3 = BlockSchedule<3>;
+  for (const S3::Reach r : {S3::Reach{1, 1}, S3::Reach{3, 2}}) check_schedule<3>({14, 11, 17}, r);
+  // Today's kernels: 2 colours per axis, the 3^D tiles around a block.
+  EXPECT_EQ(S2::colours_per_axis({1, 1}), 2);
+  EXPECT_EQ(S2::colours_per_axis({2, 2}), 3);
+  EXPECT_EQ(S2::tile_reach({4, 4}), 2);
 }
 
 }  // namespace

@@ -120,6 +120,83 @@ void check_linear_reproduction(double lp_over_h) {
 
 constexpr std::array<double, 3> kGimpLp{0.125, 0.25, 0.5};  // l_p / L
 
+// A kernel's K nodes lie within its declared reach of the particle's cell [i, i+1]: the block
+// colouring of the scatter (grid/block_schedule.hpp) and the grid's edge tables rely on it.
+template <class Kernel>
+void check_reach(double lp_over_h) {
+  std::mt19937_64 rng(4242u);
+  std::uniform_real_distribution<double> u(1.0, 20.0);
+  std::array<double, Kernel::K> w{}, dw{};
+  for (int k = 0; k < kSamples; ++k) {
+    const double s = k < 5 ? 5.0 + 0.25 * k : u(rng);  // on a node, a quarter, the centre, ...
+    const int first = axis_weights<Kernel>(s, 1.0, lp_over_h, w.data(), dw.data());
+    const int cell = static_cast<int>(std::floor(s));
+    ASSERT_GE(first, cell - Kernel::reach_below) << "s = " << s;
+    ASSERT_LE(first + Kernel::K - 1, cell + 1 + Kernel::reach_above) << "s = " << s;
+  }
+}
+
+TEST(ShapeStencil, LinearWithinReach) { check_reach<LinearKernel>(0.25); }
+TEST(ShapeStencil, GimpWithinReach) {
+  for (double r : kGimpLp) check_reach<GimpKernel>(r);
+}
+
+// Stencil::scatter and Stencil::gather visit the nodes n = a + K r in increasing n, with the
+// factors whose products are S(n) and G(n), bit for bit.
+template <int D, class Kernel>
+void check_iteration(double lp_over_h) {
+  const Grid<D> g = make_grid<D>(0.25, 14);
+  const Vec<D> lp = uniform_lp<D>(lp_over_h * g.h);
+  Stencil<D, Kernel> st;
+  for (const Vec<D>& x : interior_points<D>(g, 50, 99u)) {
+    st.compute(g, x, lp);
+    struct Row {
+      double T;
+      std::array<double, D - 1> dT;
+    };
+    int n = 0;
+    st.scatter([&](double T, const std::array<double, D - 1>& dT) { return Row{T, dT}; },
+               [&](std::int64_t k, double w, double dw, const Row& row) {
+                 ASSERT_EQ(k, st.node(n));
+                 ASSERT_EQ(w * row.T, st.S(n));
+                 const Vec<D> G = st.G(n);
+                 ASSERT_EQ(dw * row.T, G[0]);
+                 for (int d = 1; d < D; ++d) ASSERT_EQ(w * row.dT[static_cast<std::size_t>(d - 1)], G[d]);
+                 ++n;
+               });
+    ASSERT_EQ(n, st.N);
+    // Gather: S summed along x then times T, as the stages sum.
+    int m = 0, rows = 0;
+    double sum = 0.0, expected = 0.0;
+    st.gather(
+        0.0,
+        [&](double& row_sum, std::int64_t k, double w, double) {
+          ASSERT_EQ(k, st.node(m));
+          row_sum += w;
+          ++m;
+        },
+        [&](const double& row_sum, double T, const std::array<double, D - 1>&) {
+          double along = 0.0;
+          for (int a = 0; a < st.K; ++a) along += st.wx[static_cast<std::size_t>(a)];
+          ASSERT_EQ(row_sum, along);
+          sum += T * row_sum, expected += T * along;
+          ++rows;
+        });
+    ASSERT_EQ(m, st.N);
+    ASSERT_EQ(rows, st.R);
+    ASSERT_EQ(sum, expected);
+  }
+}
+
+TEST(ShapeStencil, IterationOrder2D) {
+  check_iteration<2, LinearKernel>(0.25);
+  check_iteration<2, GimpKernel>(0.25);
+}
+TEST(ShapeStencil, IterationOrder3D) {
+  check_iteration<3, LinearKernel>(0.25);
+  check_iteration<3, GimpKernel>(0.5);
+}
+
 TEST(ShapeStencil, LinearPartitionOfUnity2D) { check_partition_of_unity<2, LinearKernel>(0.25); }
 TEST(ShapeStencil, LinearPartitionOfUnity3D) { check_partition_of_unity<3, LinearKernel>(0.25); }
 

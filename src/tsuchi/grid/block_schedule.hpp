@@ -2,18 +2,23 @@
 // Lock-free, deterministic particle-to-grid scatter on several threads.
 //
 // The grid is cut into blocks of B x B (x B) cells and each particle belongs to the block of the
-// cell it sits in. A particle writes to nodes at most one node outside its cell's block (three
-// GIMP nodes per axis with l_p <= L/2), so two blocks of the same colour - colours alternate along
-// every axis, 4 in 2D and 8 in 3D - never write the same node when B >= 3. The scatter runs colour
-// by colour; inside a colour, blocks go to threads in any order, and inside a block particles go in
-// increasing index. Every node therefore sums its contributions in one fixed order, whatever the
-// number of threads: results are bitwise the same on 1 or N threads, with no lock or atomic.
+// cell it sits in. The shape kernel declares its reach: how many nodes beyond the two of a
+// particle's cell its stencil may write, below and above along an axis (Reach; 1 and 1 for the
+// three GIMP nodes per axis with l_p <= L/2, 0 and 0 for the linear hat). Block b along an axis
+// then writes nodes b B - below .. b B + B + above. Blocks get P colours per axis, cyclically
+// (P^D in all), with P the least that keeps blocks P apart from writing a common node,
+// (P - 1) B > below + above: P = 2 (4 colours in 2D, 8 in 3D) for every kernel reaching fewer than
+// B nodes in all. The scatter runs colour by colour; inside a colour, blocks go to threads in any
+// order, and inside a block particles go in increasing index. Every node therefore sums its
+// contributions in one fixed order, whatever the number of threads: results are bitwise the same
+// on 1 or N threads, with no lock or atomic.
 //
 // Brought up to date every step from the start-of-step positions: a pass that files each particle
 // under its block, then, only if some particle changed block, a counting sort of the particle
 // indices (8 bytes per particle in all).
 #include "tsuchi/grid/grid.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -24,9 +29,33 @@ template <int D>
 class BlockSchedule {
  public:
   static constexpr int B = Grid<D>::T;         // cells per block per axis: a block is a tile
-  static constexpr int kColours = 1 << D;
 
-  void build(const Grid<D>& grid, const std::vector<Vec<D>>& x);
+  // Nodes a stencil may reach beyond the two of the particle's cell, along an axis.
+  struct Reach {
+    int below = 0, above = 0;
+    bool operator==(const Reach&) const = default;
+  };
+  template <class Kernel>
+  static constexpr Reach reach_of() {
+    static_assert(Kernel::reach_below >= 0 && Kernel::reach_above >= 0, "a kernel's reach counts nodes, >= 0");
+    return {Kernel::reach_below, Kernel::reach_above};
+  }
+  // The three GIMP nodes per axis (l_p <= L/2).
+  static constexpr Reach kGimpReach{1, 1};
+
+  // Colours per axis: blocks P apart write disjoint nodes when (P - 1) B > below + above.
+  static constexpr int colours_per_axis(Reach r) { return (r.below + r.above) / B + 2; }
+  // Tiles on either side of a block that hold nodes its particles reach: the lowest node,
+  // b B - below, lies ceil(below / B) tiles below; the highest, b B + B + above, 1 + above / B
+  // tiles above. The larger of the two on both sides.
+  static constexpr int tile_reach(Reach r) { return std::max((r.below + B - 1) / B, 1 + r.above / B); }
+  // Today's kernels (GIMP, linear) keep the 2^D colours and the 3^D tiles around a block.
+  static_assert(colours_per_axis(kGimpReach) == 2 && tile_reach(kGimpReach) == 1);
+  static_assert(colours_per_axis(Reach{0, 0}) == 2 && tile_reach(Reach{0, 0}) == 1);
+
+  // Files the particles at x by block and colours the blocks for a kernel of the given reach. The
+  // particle order (order()) does not depend on the reach.
+  void build(const Grid<D>& grid, const std::vector<Vec<D>>& x, Reach reach = kGimpReach);
 
   // The particles were reordered: the next build starts afresh.
   void invalidate() { valid_ = false; }
@@ -34,8 +63,7 @@ class BlockSchedule {
   // Calls f(i) for every particle, colour by colour, blocks of one colour in parallel.
   template <class F>
   void scatter(F&& f) const {
-    for (int c = 0; c < kColours; ++c) {
-      const auto& blocks = colour_blocks_[c];
+    for (const auto& blocks : colour_blocks_) {
       const auto nb = static_cast<std::int64_t>(blocks.size());
       // Runs of blocks per grab: two same-colour blocks two apart both write the tile between
       // them, and threads taking alternate blocks would write the same cache lines at once. Runs
@@ -49,13 +77,16 @@ class BlockSchedule {
     }
   }
 
+  // The non-empty blocks of each colour, in the order scatter() takes them (for checks).
+  const std::vector<std::vector<std::int32_t>>& colour_blocks() const { return colour_blocks_; }
+
   // Particle indices in block order: the order a locality-improving reordering would follow.
   const std::vector<std::int32_t>& order() const { return order_; }
 
   // Calls f(k) for every node slot of the active tiles, in parallel: the tiles of the non-empty
-  // blocks and their neighbours, which hold every node a particle's stencil reaches (a block is a
-  // tile, and a stencil reaches at most one node beyond its block, see above). Nodes elsewhere
-  // carry nothing, so the grid loops skip them; a tile is cleared by p2g when it becomes active.
+  // blocks and the tiles within tile_reach() of them, which hold every node a particle's stencil
+  // reaches (a block is a tile). Nodes elsewhere carry nothing, so the grid loops skip them; a
+  // tile is cleared by p2g when it becomes active.
   template <class F>
   void for_active_nodes(F&& f) const {
     constexpr std::int64_t nodes = Grid<D>::kTileNodes;
@@ -70,11 +101,12 @@ class BlockSchedule {
  private:
   bool valid_ = false;                          // built, and the particles not reordered since
   std::array<int, D> blocks_{};
+  Reach reach_{};
   std::vector<std::int32_t> block_of_;          // per particle
   std::vector<std::int64_t> start_;             // per block: first entry in order_, plus a sentinel
   std::vector<std::int32_t> order_;             // particle indices grouped by block, increasing within
   std::vector<std::int64_t> fill_;              // counting-sort cursors
-  std::array<std::vector<std::int32_t>, kColours> colour_blocks_;  // non-empty blocks of each colour
+  std::vector<std::vector<std::int32_t>> colour_blocks_;  // non-empty blocks of each colour
   std::vector<std::int32_t> active_tiles_;      // increasing
   std::vector<unsigned char> tile_mark_;        // per tile, while active_tiles_ is built
 };

@@ -1,5 +1,6 @@
 #pragma once
-// The fixed Cartesian background grid: geometry and nodal fields as flat arrays (one per field).
+// The fixed Cartesian background grid: geometry, the boundary conditions, and one or more nodal
+// fields, each a set of flat arrays (one per quantity).
 #include "tsuchi/core/tensor.hpp"
 
 #include <algorithm>
@@ -8,6 +9,30 @@
 #include <vector>
 
 namespace tsuchi {
+
+// The quantities the step scatters to and solves on the nodes: one velocity field. Today's step
+// uses one (Grid::fields[0]); contact between bodies will hold one per body and a centre-of-mass
+// one, each filled and solved by the same stages.
+template <int D>
+struct NodalField {
+  std::vector<double> m;   // mass
+  std::vector<Vec<D>> p;   // momentum
+  std::vector<Vec<D>> f;   // internal + external force
+  std::vector<Vec<D>> v;   // velocity p / m (before the step, or remapped)
+  std::vector<Vec<D>> a;   // acceleration
+  std::vector<Vec<D>> vL;  // updated velocity v^L = v + dt a
+
+  void allocate(std::size_t slots) {
+    m.assign(slots, 0.0);
+    p.assign(slots, Vec<D>::Zero());
+    f.assign(slots, Vec<D>::Zero());
+    a.assign(slots, Vec<D>::Zero());
+    v.assign(slots, Vec<D>::Zero());
+    vL.assign(slots, Vec<D>::Zero());
+  }
+
+  static constexpr std::size_t bytes_per_slot() { return sizeof(double) + 5 * sizeof(Vec<D>); }
+};
 
 template <int D>
 struct Grid {
@@ -24,17 +49,18 @@ struct Grid {
   static constexpr int T = 4;
   static constexpr int kTileNodes = D == 2 ? T * T : T * T * T;
 
-  std::vector<double> m_g;              // mass
-  std::vector<Vec<D>> p_g;              // momentum
-  std::vector<Vec<D>> f_g;              // internal + external force
-  std::vector<Vec<D>> v_g;              // velocity p_g / m_g (before the step, or remapped)
-  std::vector<Vec<D>> a_g;              // acceleration
-  std::vector<Vec<D>> vL_g;             // updated velocity v^L = v_g + dt a_g
+  // The nodal fields: allocate() makes field 0, the only one the step uses today; add_field()
+  // makes another, of the same size and zeroed, and returns its number. Only the fields asked for
+  // take memory. The boundary conditions (fixed_g) hold for every field.
+  std::vector<NodalField<D>> fields;
   std::vector<std::uint8_t> fixed_g;    // bit d set: velocity component d held at zero
 
-  // Per axis, for i = -1 .. n_nodes (entry i + 1): axis_offset(d, i) clamped into the grid, and 1
-  // for a node of the grid, 0 for the two beyond its edges, which a stencil may reach and drops.
-  // Two loads per stencil node instead of a clamp, a division and a select. Built by index_axes().
+  // Per axis, for i = -kEdge .. n_nodes - 1 + kEdge (entry i + kEdge): axis_offset(d, i) clamped
+  // into the grid, and 1 for a node of the grid, 0 for the kEdge nodes beyond each edge, which a
+  // stencil may reach and drops. Two loads per stencil node instead of a clamp, a division and a
+  // select. Built by index_axes(). A kernel reaching further than kEdge nodes beyond the cell of
+  // a particle does not compile (shape/stencil.hpp).
+  static constexpr int kEdge = 1;
   std::array<std::vector<std::int64_t>, D> axis_term;
   std::array<std::vector<double>, D> axis_inside;
 
@@ -102,30 +128,39 @@ struct Grid {
     inv_h = 1.0 / h;
     for (int d = 0; d < D; ++d) {
       const int n = n_nodes[d];
-      axis_term[d].resize(static_cast<std::size_t>(n) + 2);
-      axis_inside[d].resize(static_cast<std::size_t>(n) + 2);
-      for (int i = -1; i <= n; ++i) {
-        axis_term[d][i + 1] = axis_offset(d, std::clamp(i, 0, n - 1));
-        axis_inside[d][i + 1] = i >= 0 && i < n ? 1.0 : 0.0;
+      axis_term[d].resize(static_cast<std::size_t>(n) + 2 * kEdge);
+      axis_inside[d].resize(static_cast<std::size_t>(n) + 2 * kEdge);
+      for (int i = -kEdge; i < n + kEdge; ++i) {
+        axis_term[d][i + kEdge] = axis_offset(d, std::clamp(i, 0, n - 1));
+        axis_inside[d][i + kEdge] = i >= 0 && i < n ? 1.0 : 0.0;
       }
     }
   }
 
-  // The nodal fields, and index_axes().
+  // index_axes(), the boundary conditions (none held) and one nodal field.
   void allocate() {
     index_axes();
     const std::size_t n = size();
-    m_g.assign(n, 0.0);
-    p_g.assign(n, Vec<D>::Zero());
-    f_g.assign(n, Vec<D>::Zero());
-    a_g.assign(n, Vec<D>::Zero());
-    v_g.assign(n, Vec<D>::Zero());
-    vL_g.assign(n, Vec<D>::Zero());
+    fields.assign(1, NodalField<D>{});
+    fields[0].allocate(n);
     fixed_g.assign(n, 0);
   }
 
-  static constexpr std::size_t bytes_per_slot() { return sizeof(double) + 5 * sizeof(Vec<D>) + sizeof(std::uint8_t); }
-  std::size_t bytes() const { return size() * bytes_per_slot(); }
+  // A further nodal field, after allocate(); returns its number.
+  int add_field() {
+    fields.emplace_back().allocate(size());
+    return static_cast<int>(fields.size()) - 1;
+  }
+
+  NodalField<D>& field(int k = 0) { return fields[static_cast<std::size_t>(k)]; }
+  const NodalField<D>& field(int k = 0) const { return fields[static_cast<std::size_t>(k)]; }
+
+  // Bytes per storage slot with one nodal field (what allocate() takes); each add_field() adds
+  // NodalField<D>::bytes_per_slot().
+  static constexpr std::size_t bytes_per_slot() { return NodalField<D>::bytes_per_slot() + sizeof(std::uint8_t); }
+  std::size_t bytes() const {
+    return size() * (fields.size() * NodalField<D>::bytes_per_slot() + sizeof(std::uint8_t));
+  }
 };
 
 }  // namespace tsuchi

@@ -41,6 +41,9 @@ inline double gimp_dS(double xi, double L, double lp) {
 // partition of unity, 1 - left - right.
 struct GimpKernel {
   static constexpr int K = 3;
+  // Nodes reached beyond the two of the particle's cell [i, i+1]: i-1 when the particle sits in
+  // the cell's lower half, i+2 in its upper half (stencil.hpp; the block colouring derives from it).
+  static constexpr int reach_below = 1, reach_above = 1;
   static constexpr const char* name = "gimp";
 
   // Every axis at once, one lane per axis (2D: one SSE register). s = (x_p - origin) / L in cell

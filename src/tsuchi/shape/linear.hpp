@@ -21,6 +21,7 @@ inline double linear_dS(double xi, double L) {
 // Two nodes per axis: the ends of the cell holding the particle. The particle half-width is unused.
 struct LinearKernel {
   static constexpr int K = 2;
+  static constexpr int reach_below = 0, reach_above = 0;  // the cell's own two nodes (see GimpKernel)
   static constexpr const char* name = "linear";
 
   // Every axis at once (see GimpKernel). s = (x_p - origin) / L in cell units, inv_L = 1 / L.

@@ -7,7 +7,13 @@
 // that axis' weight replaced by its derivative). Node (a, r) then has
 //   S = wx[a] T[r],   G_x = dwx[a] T[r],   G_d = wx[a] dT_d[r],
 // and a sum over the stencil can run along x first and apply the row factors once per row:
-// fewer products than with the K^D weights spelt out, and nothing to store per node.
+// fewer products than with the K^D weights spelt out, and nothing to store per node. scatter()
+// and gather() below are that iteration, written once; a stage states only what it spreads to a
+// node or sums from one.
+//
+// A kernel is a type with K (nodes per axis), reach_below and reach_above (nodes its stencil may
+// reach beyond the two nodes of the particle's cell, on either side along an axis; the block
+// colouring of the scatter derives from them, grid/block_schedule.hpp) and weights() (gimp.hpp).
 //
 // Nodes of the stencil that fall outside the grid get weight 0 and a clamped (valid) index, so
 // scatter and gather loops run without a branch; the dropped weight is the grid edge, where a
@@ -23,6 +29,12 @@ namespace tsuchi {
 
 template <int D, class Kernel>
 struct Stencil {
+  static_assert(Kernel::reach_below >= 0 && Kernel::reach_above >= 0, "a kernel's reach counts nodes, >= 0");
+  static_assert(Kernel::K <= 2 + Kernel::reach_below + Kernel::reach_above,
+                "a kernel's K nodes per axis must lie within its cell's two nodes and its declared reach");
+  static_assert(Kernel::reach_below <= Grid<D>::kEdge && Kernel::reach_above <= Grid<D>::kEdge,
+                "the kernel reaches further beyond the grid's edge than the edge tables hold: raise Grid::kEdge "
+                "(grid/grid.hpp)");
   static constexpr int K = Kernel::K;
   static constexpr int R = D == 2 ? K : K * K;  // rows along x
   static constexpr int N = K * R;               // nodes
@@ -43,7 +55,8 @@ struct Stencil {
     for (int d = 0; d < D; ++d) {
       // Only a particle outside the grid, about to be reported, needs the clamp: it keeps the
       // table reads inside the tables.
-      const auto first = static_cast<std::size_t>(std::clamp(i0[d], -1, grid.n_nodes[d] + 1 - K) + 1);
+      constexpr int E = Grid<D>::kEdge;
+      const auto first = static_cast<std::size_t>(std::clamp(i0[d], -E, grid.n_nodes[d] + E - K) + E);
       const std::int64_t* term = grid.axis_term[d].data() + first;
       const double* inside = grid.axis_inside[d].data() + first;
       for (int k = 0; k < K; ++k) {
@@ -64,6 +77,29 @@ struct Stencil {
           dT[r][1] = w[1][b] * dw[2][c];
           row[r] = off[1][b] + off[2][c];
         }
+    }
+  }
+
+  // Scatter: for each row r in turn, along = row_fn(T[r], dT[r]) is what the row spreads (formed
+  // once per row), then node_fn(k, wx[a], dwx[a], along) for the row's nodes a = 0 .. K-1, k the
+  // node's index. Node (a, r) thus gets S = wx[a] T[r], G_x = dwx[a] T[r], G_d = wx[a] dT[r][d-1]
+  // from products the row function formed with T and dT.
+  template <class RowFn, class NodeFn>
+  [[gnu::always_inline]] inline void scatter(RowFn&& row_fn, NodeFn&& node_fn) const {
+    for (int r = 0; r < R; ++r) {
+      const auto along = row_fn(T[r], dT[r]);
+      for (int a = 0; a < K; ++a) node_fn(offx[a] + row[r], wx[a], dwx[a], along);
+    }
+  }
+
+  // Gather: for each row r in turn, sums = zero, node_fn(sums, k, wx[a], dwx[a]) for the row's
+  // nodes a = 0 .. K-1 (sums along x), then row_fn(sums, T[r], dT[r]) applies the row's factors.
+  template <class Sums, class NodeFn, class RowFn>
+  [[gnu::always_inline]] inline void gather(const Sums& zero, NodeFn&& node_fn, RowFn&& row_fn) const {
+    for (int r = 0; r < R; ++r) {
+      Sums sums = zero;
+      for (int a = 0; a < K; ++a) node_fn(sums, offx[a] + row[r], wx[a], dwx[a]);
+      row_fn(static_cast<const Sums&>(sums), T[r], dT[r]);
     }
   }
 

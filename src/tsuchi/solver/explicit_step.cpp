@@ -32,39 +32,42 @@ template <int D>
 template <class Kernel>
 void ExplicitSolver<D>::step_with(double dt) {
   auto& g = m_.grid;
-  schedule_.build(g, m_.particles.x_p);  // every stage below uses the start-of-step positions
+  // Blocks coloured for the kernel's reach; every stage below uses the start-of-step positions.
+  constexpr auto reach = BlockSchedule<D>::template reach_of<Kernel>();
+  schedule_.build(g, m_.particles.x_p, reach);
   const std::int64_t sort = m_.step.sort_interval;
   if (sort > 0 && steps_ > 0 && steps_ % sort == 0) {
     // The order depends on positions only, so every thread count sorts alike, and a restart at
     // the same step sorts alike.
     m_.particles.permute(schedule_.order(), sort_scratch_);
     schedule_.invalidate();
-    schedule_.build(g, m_.particles.x_p);
+    schedule_.build(g, m_.particles.x_p, reach);
   }
+  const auto& field = nodes();
   switch (m_.step.scheme) {
     case Scheme::USF:
       // The GIMP domain update waits until the end of the step: the later stages must use the
       // same weights as the mass p2g, or momentum is not conserved.
-      p2g<Kernel, true, false>();
+      p2g<Kernel, Scatter::MassMomentum>();
       nodal_velocity();
-      update_stress<Kernel, false>(dt, g.v_g);
-      p2g<Kernel, false, true>();
+      update_stress<Kernel, AfterStress::DeferDomain>(dt, field.v);
+      p2g<Kernel, Scatter::Force>();
       solve_grid(dt);
-      g2p<Kernel>(dt, false, true);
+      g2p<Kernel, AfterGather::Move>(dt);
       apply_deferred_domain_update();
       break;
     case Scheme::USL:
-      p2g<Kernel, true, true>();
-      nodal_velocity_and_solve(dt, false);
-      g2p<Kernel>(dt, false, false);
-      update_stress<Kernel, true>(dt, g.vL_g);
+      p2g<Kernel, Scatter::All>();
+      nodal_velocity_and_solve<Momentum::Keep>(dt);
+      g2p<Kernel, AfterGather::None>(dt);
+      update_stress<Kernel, AfterStress::Move>(dt, field.vL);
       break;
     case Scheme::MUSL:
-      p2g<Kernel, true, true>();
-      nodal_velocity_and_solve(dt, true);
-      g2p<Kernel>(dt, true, false);
+      p2g<Kernel, Scatter::All>();
+      nodal_velocity_and_solve<Momentum::Clear>(dt);
+      g2p<Kernel, AfterGather::Remap>(dt);
       nodal_velocity();
-      update_stress<Kernel, true>(dt, g.v_g);
+      update_stress<Kernel, AfterStress::Move>(dt, field.v);
       break;
   }
   report_faults();
@@ -83,23 +86,32 @@ void zero_nodal(const BlockSchedule<D>& schedule, Arrays&... a) {
 
 // Particle to grid, eqs (1)-(3): mass, momentum, and f_int = -sum V_p (sigma_p - sigma0_p) . G,
 // f_ext = sum S m_p b.
-// The stages are compile-time flags: the node loop is the hottest loop of the step and should
-// carry no test that is the same for every node.
+// What it scatters is a compile-time choice: the node loop is the hottest loop of the step and
+// should carry no test that is the same for every node.
 template <int D>
-template <class Kernel, bool MassMomentum, bool Force>
+template <class Kernel, typename ExplicitSolver<D>::Scatter What>
 void ExplicitSolver<D>::p2g() {
+  constexpr bool mass_momentum = What != Scatter::Force, force = What != Scatter::MassMomentum;
   auto& g = m_.grid;
+  auto& n = nodes();
   const auto& p = m_.particles;
-  if constexpr (MassMomentum && Force) zero_nodal(schedule_, g.m_g, g.p_g, g.f_g);
-  else if constexpr (MassMomentum) zero_nodal(schedule_, g.m_g, g.p_g);
-  else zero_nodal(schedule_, g.f_g);
+  if constexpr (What == Scatter::All) zero_nodal(schedule_, n.m, n.p, n.f);
+  else if constexpr (What == Scatter::MassMomentum) zero_nodal(schedule_, n.m, n.p);
+  else zero_nodal(schedule_, n.f);
   const Vec<D> b = m_.step.gravity;
+  // What a row of the stencil spreads along x (stencil.hpp): with c_d the columns of -V sigma,
+  // node (a, r) gets m wx[a] T, mv wx[a] T and
+  //   f = S mb + sum_d G_d c_d = wx[a] (T mb + sum_{d>0} dT_d c_d) + dwx[a] T c_0.
+  struct Row {
+    double m;
+    Vec<D> mv, f_w, f_dw;
+  };
   schedule_.scatter([&](std::size_t i) {
     // Local copies of the array addresses: Eigen's vector stores may alias anything, and would
     // otherwise make the compiler reload every vector's address after each node's update.
-    double* const m_g = g.m_g.data();
-    Vec<D>* const p_g = g.p_g.data();
-    Vec<D>* const f_g = g.f_g.data();
+    double* const m_g = n.m.data();
+    Vec<D>* const p_g = n.p.data();
+    Vec<D>* const f_g = n.f.data();
     Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
     const double m = p.m_p[i];
@@ -108,31 +120,28 @@ void ExplicitSolver<D>::p2g() {
     const Mat<D> minus_V_stress = -p.V_p[i] * s.template topLeftCorner<D, D>();
     const Vec<D> mv = m * p.v_p[i];
     const Vec<D> mb = m * b;
-    // Row by row (stencil.hpp): with c_d the columns of -V sigma, node (a, r) gets
-    //   f = S mb + sum_d G_d c_d = wx[a] (T mb + sum_{d>0} dT_d c_d) + dwx[a] T c_0.
-    for (int r = 0; r < st.R; ++r) {
-      const double Tm = st.T[r] * m;
-      const Vec<D> Tmv = st.T[r] * mv;
-      Vec<D> f_w = st.T[r] * mb;
-      for (int d = 1; d < D; ++d) f_w += st.dT[r][d - 1] * minus_V_stress.col(d);
-      const Vec<D> f_dw = st.T[r] * minus_V_stress.col(0);
-      for (int a = 0; a < st.K; ++a) {
-        const auto k = st.offx[a] + st.row[r];
-        if constexpr (MassMomentum) {
-          m_g[k] += st.wx[a] * Tm;
-          p_g[k] += st.wx[a] * Tmv;
-        }
-        if constexpr (Force) f_g[k] += st.wx[a] * f_w + st.dwx[a] * f_dw;
-      }
-    }
+    st.scatter(
+        [&](double T, const std::array<double, D - 1>& dT) {
+          Row row{T * m, T * mv, T * mb, {}};
+          for (int d = 1; d < D; ++d) row.f_w += dT[d - 1] * minus_V_stress.col(d);
+          row.f_dw = T * minus_V_stress.col(0);
+          return row;
+        },
+        [&](std::int64_t k, double w, double dw, const Row& row) {
+          if constexpr (mass_momentum) {
+            m_g[k] += w * row.m;
+            p_g[k] += w * row.mv;
+          }
+          if constexpr (force) f_g[k] += w * row.f_w + dw * row.f_dw;
+        });
   });
 }
 
 // v_g = p_g / m_g on a node heavier than the floor, then the velocity boundary conditions.
 template <int D>
-inline Vec<D> ExplicitSolver<D>::velocity_at(std::int64_t k) const {
+inline Vec<D> ExplicitSolver<D>::velocity_at(const NodalField<D>& n, std::int64_t k) const {
   const auto& g = m_.grid;
-  Vec<D> v = g.m_g[k] > m_.step.node_mass_floor ? Vec<D>(g.p_g[k] / g.m_g[k]) : Vec<D>::Zero();
+  Vec<D> v = n.m[k] > m_.step.node_mass_floor ? Vec<D>(n.p[k] / n.m[k]) : Vec<D>::Zero();
   for (int d = 0; d < D; ++d)
     if (g.fixed_g[k] & (1u << d)) v[d] = 0.0;
   return v;
@@ -141,13 +150,13 @@ inline Vec<D> ExplicitSolver<D>::velocity_at(std::int64_t k) const {
 // Grid momentum balance at a node, eq (4), with local damping and the boundary conditions:
 // a_g = (f + f_damp(f, v_g)) / m_g.
 template <int D>
-inline Vec<D> ExplicitSolver<D>::acceleration_at(std::int64_t k, const Vec<D>& v) const {
+inline Vec<D> ExplicitSolver<D>::acceleration_at(const NodalField<D>& n, std::int64_t k, const Vec<D>& v) const {
   const auto& g = m_.grid;
   Vec<D> a = Vec<D>::Zero();
-  if (g.m_g[k] > m_.step.node_mass_floor) {
+  if (n.m[k] > m_.step.node_mass_floor) {
     for (int d = 0; d < D; ++d) {
-      const double f = g.f_g[k][d];
-      a[d] = (f + local_damping_force(f, v[d], m_.step.damping)) / g.m_g[k];
+      const double f = n.f[k][d];
+      a[d] = (f + local_damping_force(f, v[d], m_.step.damping)) / n.m[k];
       if (g.fixed_g[k] & (1u << d)) a[d] = 0.0;
     }
   }
@@ -156,76 +165,80 @@ inline Vec<D> ExplicitSolver<D>::acceleration_at(std::int64_t k, const Vec<D>& v
 
 template <int D>
 void ExplicitSolver<D>::nodal_velocity() {
-  auto& g = m_.grid;
-  schedule_.for_active_nodes([&](std::int64_t k) { g.v_g[k] = velocity_at(k); });
+  auto& n = nodes();
+  schedule_.for_active_nodes([&](std::int64_t k) { n.v[k] = velocity_at(n, k); });
 }
 
 // a_g, and v^L = v_g + dt a_g.
 template <int D>
 void ExplicitSolver<D>::solve_grid(double dt) {
-  auto& g = m_.grid;
+  auto& n = nodes();
   schedule_.for_active_nodes([&](std::int64_t k) {
-    g.a_g[k] = acceleration_at(k, g.v_g[k]);
-    g.vL_g[k] = g.v_g[k] + dt * g.a_g[k];
+    n.a[k] = acceleration_at(n, k, n.v[k]);
+    n.vL[k] = n.v[k] + dt * n.a[k];
   });
 }
 
 // nodal_velocity() then solve_grid() in one pass over the nodes, for USL and MUSL, where nothing
-// comes between them. With `clear_momentum` p_g is zeroed once read, ready for the remap.
+// comes between them. With Momentum::Clear p_g is zeroed once read, ready for the remap.
 template <int D>
-void ExplicitSolver<D>::nodal_velocity_and_solve(double dt, bool clear_momentum) {
-  auto& g = m_.grid;
+template <typename ExplicitSolver<D>::Momentum Then>
+void ExplicitSolver<D>::nodal_velocity_and_solve(double dt) {
+  auto& n = nodes();
   schedule_.for_active_nodes([&](std::int64_t k) {
-    const Vec<D> v = velocity_at(k), a = acceleration_at(k, v);
-    g.v_g[k] = v;
-    g.a_g[k] = a;
-    g.vL_g[k] = v + dt * a;
-    if (clear_momentum) g.p_g[k] = Vec<D>::Zero();
+    const Vec<D> v = velocity_at(n, k), a = acceleration_at(n, k, v);
+    n.v[k] = v;
+    n.a[k] = a;
+    n.vL[k] = v + dt * a;
+    if constexpr (Then == Momentum::Clear) n.p[k] = Vec<D>::Zero();
   });
 }
 
 // Grid to particle, eqs (7)-(8): FLIP v_p += dt sum S a_g, blended with PIC sum S v^L when asked.
-// Prescribed components are then set (their acceleration is zero). With `remap` the updated
-// particle momenta are projected back to the grid, eq (9) (MUSL), into a p_g cleared by
-// nodal_velocity_and_solve(). With `move`, eqs (5)-(6).
+// Prescribed components are then set (their acceleration is zero). With AfterGather::Remap the
+// updated particle momenta are projected back to the grid, eq (9) (MUSL), into a p_g cleared by
+// nodal_velocity_and_solve<Momentum::Clear>(). With AfterGather::Move, eqs (5)-(6).
 template <int D>
-template <class Kernel>
-void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
+template <class Kernel, typename ExplicitSolver<D>::AfterGather Then>
+void ExplicitSolver<D>::g2p(double dt) {
   auto& g = m_.grid;
+  auto& n = nodes();
   auto& p = m_.particles;
   const double beta = m_.step.pic_fraction;
+  struct Sums {
+    Vec<D> a, vL;
+  };
+  const Sums zero{Vec<D>::Zero(), Vec<D>::Zero()};
   const auto particle = [&](std::size_t i) {
-    const Vec<D>* const a_g = g.a_g.data();  // local addresses: see p2g
-    const Vec<D>* const vL_g = g.vL_g.data();
-    Vec<D>* const p_g = g.p_g.data();
+    const Vec<D>* const a_g = n.a.data();  // local addresses: see p2g
+    const Vec<D>* const vL_g = n.vL.data();
+    Vec<D>* const p_g = n.p.data();
     Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
     Vec<D> a = Vec<D>::Zero(), vL = Vec<D>::Zero();
-    for (int r = 0; r < st.R; ++r) {  // along x first, then the row's weight (stencil.hpp)
-      Vec<D> row_a = Vec<D>::Zero(), row_vL = Vec<D>::Zero();
-      for (int c = 0; c < st.K; ++c) {
-        const auto k = st.offx[c] + st.row[r];
-        row_a += st.wx[c] * a_g[k];
-        row_vL += st.wx[c] * vL_g[k];
-      }
-      a += st.T[r] * row_a;
-      vL += st.T[r] * row_vL;
-    }
+    st.gather(
+        zero,
+        [&](Sums& row, std::int64_t k, double w, double) {
+          row.a += w * a_g[k];
+          row.vL += w * vL_g[k];
+        },
+        [&](const Sums& row, double T, const std::array<double, D - 1>&) {
+          a += T * row.a;
+          vL += T * row.vL;
+        });
     Vec<D> v = p.v_p[i] + dt * a;
     if (beta > 0.0) v = (1.0 - beta) * v + beta * vL;
     impose_motion(i, v);
     if (!v.allFinite()) note_fault(nonfinite_, i);
     p.v_p[i] = v;
-    if (remap) {
+    if constexpr (Then == AfterGather::Remap) {
       const Vec<D> mv = p.m_p[i] * v;
-      for (int r = 0; r < st.R; ++r) {
-        const Vec<D> Tmv = st.T[r] * mv;
-        for (int c = 0; c < st.K; ++c) p_g[st.offx[c] + st.row[r]] += st.wx[c] * Tmv;
-      }
+      st.scatter([&](double T, const std::array<double, D - 1>&) -> Vec<D> { return T * mv; },
+                 [&](std::int64_t k, double w, double, const Vec<D>& Tmv) { p_g[k] += w * Tmv; });
     }
-    if (move) move_particle(i, dt, vL);
+    if constexpr (Then == AfterGather::Move) move_particle(i, dt, vL);
   };
-  if (remap) {
+  if constexpr (Then == AfterGather::Remap) {
     schedule_.scatter(particle);  // the remap writes nodes
   } else {
     const auto np = static_cast<std::int64_t>(p.size());
@@ -235,19 +248,26 @@ void ExplicitSolver<D>::g2p(double dt, bool remap, bool move) {
 }
 
 // Strain and spin increments from the grid velocity, eq (10); Jaumann rotation (22) and the
-// constitutive update (11); volume (12), GIMP domain (14); with Move also positions (5)-(6).
+// constitutive update (11); volume (12), GIMP domain (14); with AfterStress::Move also positions
+// (5)-(6).
 // The material is chosen once per material group, outside the particle loop.
 template <int D>
-template <class Kernel, bool Move>
+template <class Kernel, typename ExplicitSolver<D>::AfterStress Then>
 void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_strain) {
+  constexpr bool move = Then == AfterStress::Move;
   auto& g = m_.grid;
+  const auto& n = nodes();
   auto& p = m_.particles;
   const bool domain_update = m_.step.domain_update();
-  const bool defer_domain = !Move;  // USF: the step's later stages still need this step's weights
+  const bool defer_domain = !move;  // USF: the step's later stages still need this step's weights
   if (domain_update && defer_domain) deferred_eps_.resize(p.size());
   const auto& materials = m_.materials;
   // An anisotropic initial stress held by eq (2) turns with the material, as the stress does.
   const bool rotate_sigma0 = m_.rotate_initial_stress;
+  struct Sums {
+    Vec<D> w, dw, vL;  // sums along x of wx v, dwx v and wx v^L
+  };
+  const Sums zero{Vec<D>::Zero(), Vec<D>::Zero(), Vec<D>::Zero()};
   // One parallel region for every material group; a thread goes on to the next group without
   // waiting, as the groups hold different particles.
 #pragma omp parallel
@@ -266,24 +286,24 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
             const auto i = static_cast<std::size_t>(ii);
             if (p.material_p[i] != static_cast<std::int32_t>(mat)) continue;
             const Vec<D>* const v_g = v_strain.data();  // local addresses: see p2g
-            const Vec<D>* const vL_g = g.vL_g.data();
+            const Vec<D>* const vL_g = n.vL.data();
             Stencil<D, Kernel> st;
             st.compute(g, p.x_p[i], p.l_p[i]);
             // L = sum v G^T, column j = sum v G_j; along x first, then the row factors.
             Mat<D> L = Mat<D>::Zero();
             Vec<D> vL = Vec<D>::Zero();
-            for (int r = 0; r < st.R; ++r) {
-              Vec<D> row_w = Vec<D>::Zero(), row_dw = Vec<D>::Zero(), row_vL = Vec<D>::Zero();
-              for (int a = 0; a < st.K; ++a) {
-                const auto k = st.offx[a] + st.row[r];
-                row_w += st.wx[a] * v_g[k];
-                row_dw += st.dwx[a] * v_g[k];
-                if constexpr (Move) row_vL += st.wx[a] * vL_g[k];
-              }
-              L.col(0) += st.T[r] * row_dw;
-              for (int d = 1; d < D; ++d) L.col(d) += st.dT[r][d - 1] * row_w;
-              if constexpr (Move) vL += st.T[r] * row_vL;
-            }
+            st.gather(
+                zero,
+                [&](Sums& row, std::int64_t k, double w, double dw) {
+                  row.w += w * v_g[k];
+                  row.dw += dw * v_g[k];
+                  if constexpr (move) row.vL += w * vL_g[k];
+                },
+                [&](const Sums& row, double T, const std::array<double, D - 1>& dT) {
+                  L.col(0) += T * row.dw;
+                  for (int d = 1; d < D; ++d) L.col(d) += dT[d - 1] * row.w;
+                  if constexpr (move) vL += T * row.vL;
+                });
             const Voigt<D> d_eps = dt * sym_voigt<D>(L);
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
             jaumann_rotate(p.sigma_p[i], d_omega);
@@ -298,7 +318,7 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
               if (defer_domain) deferred_eps_[i] = d_eps;
               else update_particle_domain<D>(p.l_p[i], d_eps, g.h);
             }
-            if constexpr (Move) move_particle(i, dt, vL);
+            if constexpr (move) move_particle(i, dt, vL);
           }
         },
         materials[mat].model);

@@ -5,7 +5,12 @@
 //   USL : p2g(m, p, f) -> v_g -> solve -> g2p -> stress(v^L) + move
 //   MUSL: p2g(m, p, f) -> v_g -> solve -> g2p + remap -> v_g -> stress(v_g) + move
 // Every stage evaluates S and G at the positions of the start of the step: particles move only in
-// the last stage.
+// the last stage. What a stage does besides its main work is a named compile-time choice (Scatter,
+// Momentum, AfterGather, AfterStress below), so the step's body reads as its scheme; the fused
+// passes (p2g of mass, momentum and force at once, g2p with the remap, the stress update moving
+// the particles) save a sweep over the particles or the nodes.
+//
+// The stages work on nodal field 0 of the grid (nodes()), the only one today.
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/grid/block_schedule.hpp"
 
@@ -34,15 +39,29 @@ class ExplicitSolver {
   std::string describe_particle(std::size_t i) const;
 
  private:
+  // What a p2g pass scatters: mass and momentum, the force, or all three in one pass.
+  enum class Scatter { MassMomentum, Force, All };
+  // What nodal_velocity_and_solve() does with the momentum once read: keep it, or clear it for
+  // the remap of g2p<AfterGather::Remap>.
+  enum class Momentum { Keep, Clear };
+  // What g2p does after updating a particle's velocity: nothing more, project the particle's
+  // momentum back to the grid (MUSL, eq 9), or move the particle (eqs 5-6).
+  enum class AfterGather { None, Remap, Move };
+  // What the stress update does after the constitutive update: move the particles and update
+  // their GIMP domain, or keep them in place and defer the domain update to the end of the step
+  // (USF, whose later stages need the step's weights).
+  enum class AfterStress { DeferDomain, Move };
+
   template <class Kernel> void step_with(double dt);
-  template <class Kernel, bool MassMomentum, bool Force> void p2g();
-  Vec<D> velocity_at(std::int64_t k) const;
-  Vec<D> acceleration_at(std::int64_t k, const Vec<D>& v) const;
+  NodalField<D>& nodes() { return m_.grid.field(0); }
+  template <class Kernel, Scatter What> void p2g();
+  Vec<D> velocity_at(const NodalField<D>& n, std::int64_t k) const;
+  Vec<D> acceleration_at(const NodalField<D>& n, std::int64_t k, const Vec<D>& v) const;
   void nodal_velocity();
   void solve_grid(double dt);
-  void nodal_velocity_and_solve(double dt, bool clear_momentum);
-  template <class Kernel> void g2p(double dt, bool remap, bool move);
-  template <class Kernel, bool Move> void update_stress(double dt, const std::vector<Vec<D>>& v_strain);
+  template <Momentum Then> void nodal_velocity_and_solve(double dt);
+  template <class Kernel, AfterGather Then> void g2p(double dt);
+  template <class Kernel, AfterStress Then> void update_stress(double dt, const std::vector<Vec<D>>& v_strain);
   // Inlined: both run for every particle in the innermost stages.
   [[gnu::always_inline]] inline void impose_motion(std::size_t i, Vec<D>& v) const;
   [[gnu::always_inline]] inline void move_particle(std::size_t i, double dt, Vec<D> vL);

@@ -1,5 +1,6 @@
 #include "tsuchi/core/interrupt.hpp"
 
+#include <atomic>
 #include <csignal>
 #include <unistd.h>
 
@@ -9,6 +10,7 @@ namespace {
 volatile std::sig_atomic_t received = 0;  // the first signal
 volatile std::sig_atomic_t count = 0;     // signals so far
 volatile std::sig_atomic_t saved = 0;     // the checkpoint after the first signal is complete
+char saved_message[4096] = "";           // what interrupt_saved() was told, written before `saved` is set
 
 void say(const char* text) {
   std::size_t n = 0;
@@ -20,7 +22,9 @@ extern "C" void on_signal(int s) {
   if (received == 0) received = s;
   count = count + 1;
   if (saved) {
-    say("\ninterrupted again: the state was saved; stopping now\n");
+    say("\ninterrupted: ");
+    say(saved_message);
+    say("\n");
     ::_exit(128 + s);
   }
   if (count >= 3) {
@@ -44,6 +48,12 @@ void install_interrupt_handlers() {
 
 int pending_interrupt() { return received; }
 
-void interrupt_saved() { saved = 1; }
+void interrupt_saved(const char* message) {
+  std::size_t n = 0;
+  for (; message[n] != '\0' && n + 1 < sizeof saved_message; ++n) saved_message[n] = message[n];
+  saved_message[n] = '\0';
+  std::atomic_signal_fence(std::memory_order_seq_cst);  // the message is whole before the handler may read it
+  saved = 1;
+}
 
 }  // namespace tsuchi

@@ -10,7 +10,8 @@ namespace tsuchi {
 void install_interrupt_handlers();
 // The first signal received since the handlers were installed, or 0.
 int pending_interrupt();
-// The checkpoint of an interrupted run is complete: from now on a signal exits at once.
-void interrupt_saved();
+// The checkpoint of an interrupted run is complete: from now on a signal exits at once, printing
+// `message` (what was saved and how to continue: a signal right after the save must not lose it).
+void interrupt_saved(const char* message = "");
 
 }  // namespace tsuchi

@@ -298,12 +298,12 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
       if (options.on_progress) options.on_progress(progress);
       if (const int sig = pending_interrupt()) {
         save();
-        interrupt_saved();
-        throw Interrupted(
+        const std::string message =
             out ? fmt::format("signal {} at step {} (t = {:.6g} s); the state is saved in {}; continue with {} --restart {}",
                               sig, solver.steps(), now, ck_path, options.resume_command, shell_word(ck_path))
-                : fmt::format("signal {} at step {} (t = {:.6g} s)", sig, solver.steps(), now),
-            sig);
+                : fmt::format("signal {} at step {} (t = {:.6g} s)", sig, solver.steps(), now);
+        interrupt_saved(message.c_str());  // a signal from now on exits at once, with this message
+        throw Interrupted(message, sig);
       }
       if (!stopped_by.empty()) break;
       if ((kc.every_steps > 0 && solver.steps() % kc.every_steps == 0) ||

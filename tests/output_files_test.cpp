@@ -93,7 +93,7 @@ TEST(Output, RunWritesCompleteFramesSeriesAndCsv) {
     EXPECT_EQ(v.points, m.particles.size());
     EXPECT_EQ(v.arrays.at("points").second.size(), v.points * 3 * sizeof(double));
     EXPECT_EQ(v.arrays.at("stress").first, 6);
-    EXPECT_EQ(v.arrays.at("id").second.size(), v.points * sizeof(std::int32_t));
+    EXPECT_EQ(v.arrays.at("id").second.size(), v.points * sizeof(std::int64_t));  // 64-bit ids (checkpoint format 3)
   }
   // The last frame holds the final state bit for bit.
   const std::string last_doc = slurp(dir / files.back());

@@ -30,23 +30,6 @@ constexpr std::size_t header_size = 8 + 4 + 4 + 8 + 8;  // magic, version, dimen
 
 std::uint32_t crc32_of(std::string_view bytes) { return crc32_update(0, bytes); }
 
-// Format 2 keeps the Mohr-Coulomb state under the names of the particle arrays it had before the
-// material state registry, the yield mode as one byte.
-struct LegacyColumn {
-  std::string_view name, section;
-  bool byte;
-};
-constexpr LegacyColumn legacy_columns[] = {{"yield_mode", "yield", true},
-                                           {"plastic_shear_strain", "plastic_shear", false},
-                                           {"plastic_volumetric_strain", "plastic_volume", false},
-                                           {"cohesion_factor", "c_scale", false},
-                                           {"friction_factor", "phi_scale", false}};
-const LegacyColumn* legacy_column(std::string_view name) {
-  for (const auto& c : legacy_columns)
-    if (c.name == name) return &c;
-  return nullptr;
-}
-
 // Numbers, or fixed-size Eigen vectors that are nothing but their coefficients: safe to copy as
 // bytes (Eigen's types are not formally trivially copyable).
 template <class T>
@@ -206,17 +189,7 @@ void write_checkpoint(const std::string& path, const Model<D>& model, const RunP
   e.scalar("label_index", r.label_index);
   e.scalar("last_frame", r.last_frame);
   e.scalar("last_row", r.last_row);
-  model.particles.for_each_array([&](const char* name, const auto& a) {
-    const LegacyColumn* old = legacy_column(name);
-    if constexpr (std::is_same_v<std::decay_t<decltype(a)>, std::vector<double>>)
-      if (old && old->byte) {
-        std::vector<std::uint8_t> flags(a.size());
-        for (std::size_t i = 0; i < a.size(); ++i) flags[i] = static_cast<std::uint8_t>(a[i]);
-        e.array(fmt::format("p.{}", old->section), flags);
-        return;
-      }
-    e.array(fmt::format("p.{}", old ? old->section : name), a);
-  });
+  model.particles.for_each_array([&](const char* name, const auto& a) { e.array(fmt::format("p.{}", name), a); });
   e.scalar("global_csv_bytes", r.output.global_bytes);
   e.scalar("global_csv_crc", r.output.global_crc);
   e.scalar("recorder_csv_bytes", r.output.recorder_bytes);
@@ -287,17 +260,7 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
   // A copy: clang before 16 cannot capture a structured binding in a lambda.
   const auto particle_count = static_cast<std::size_t>(count);
   declare_state_columns(p);
-  p.for_each_array([&](const char* name, auto& a) {
-    const LegacyColumn* old = legacy_column(name);
-    if constexpr (std::is_same_v<std::decay_t<decltype(a)>, std::vector<double>>)
-      if (old && old->byte) {
-        std::vector<std::uint8_t> flags;
-        in.array(fmt::format("p.{}", old->section), flags, particle_count);
-        a.assign(flags.begin(), flags.end());
-        return;
-      }
-    in.array(fmt::format("p.{}", old ? old->section : name), a, particle_count);
-  });
+  p.for_each_array([&](const char* name, auto& a) { in.array(fmt::format("p.{}", name), a, particle_count); });
   check_particles(p, model, in);
   r.output.global_bytes = in.scalar<std::uint64_t>("global_csv_bytes");
   r.output.global_crc = in.scalar<std::uint32_t>("global_csv_crc");

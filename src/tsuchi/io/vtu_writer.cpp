@@ -77,8 +77,13 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
     const ParticleField* f = find_particle_field(name);
     if (!f || !f->frame) continue;  // the input reader accepts frame fields only
     const int components = f->kind == FieldKind::Vector ? 3 : f->kind == FieldKind::Tensor ? 6 : 1;
+    if (f->quantity == Quantity::Id) {  // as stored: no round trip through a double
+      b.array(xml, "Int64", name, 1, p.id_p);
+      continue;
+    }
     switch (f->type) {
       case FieldType::Float64: b.array(xml, "Float64", name, components, field_array<double>(*f, p, components)); break;
+      case FieldType::Int64: b.array(xml, "Int64", name, components, field_array<std::int64_t>(*f, p, components)); break;
       case FieldType::Int32: b.array(xml, "Int32", name, components, field_array<std::int32_t>(*f, p, components)); break;
       case FieldType::UInt8: b.array(xml, "UInt8", name, components, field_array<std::uint8_t>(*f, p, components)); break;
     }

@@ -223,7 +223,7 @@ void add_body(const Config& c, int body, Model<D>& m) {
     p.m_p[k] = mat.density * volume;
     p.material_p[k] = b.material_index;
     p.body_p[k] = body;
-    p.id_p[k] = static_cast<std::int32_t>(k);
+    p.id_p[k] = static_cast<std::int64_t>(k);
   }
   for (int d = 0; d < D; ++d) {
     if (b.velocity_formula[d].empty()) continue;

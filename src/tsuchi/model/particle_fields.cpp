@@ -16,7 +16,7 @@ std::vector<ParticleField> build_registry() {
   using Q = Quantity;
   std::vector<ParticleField> r{
       {"position", K::Vector, T::Float64, "m", "current position (the points of a frame)", false, true, Q::Position},
-      {"id", K::Scalar, T::Int32, "", "stable particle identity", true, false, Q::Id},
+      {"id", K::Scalar, T::Int64, "", "stable particle identity", true, false, Q::Id},
       {"displacement", K::Vector, T::Float64, "m", "displacement from the initial position", true, true, Q::Displacement},
       {"velocity", K::Vector, T::Float64, "m/s", "velocity", true, true, Q::Velocity},
       {"stress", K::Tensor, T::Float64, "Pa", "Cauchy stress, tension positive", true, true, Q::Stress},

@@ -17,7 +17,7 @@
 namespace tsuchi {
 
 enum class FieldKind { Scalar, Vector, Tensor };  // 1, D (3 in frames) or Voigt (6 in frames) components
-enum class FieldType { Float64, Int32, UInt8 };   // as written in frames
+enum class FieldType { Float64, Int64, Int32, UInt8 };  // as written in frames
 
 // The built-in quantities; material state fields are State.
 enum class Quantity {
@@ -54,7 +54,7 @@ template <int D>
 double field_value(const ParticleField& f, const Particles<D>& p, std::size_t i, int c) {
   switch (f.quantity) {
     case Quantity::Position: return p.x_p[i][c];
-    case Quantity::Id: return p.id_p[i];
+    case Quantity::Id: return static_cast<double>(p.id_p[i]);  // exact below 2^53 (frames write the ids as they are)
     case Quantity::Displacement: return p.u_p[i][c];
     case Quantity::Velocity: return p.v_p[i][c];
     case Quantity::Stress: return p.sigma_p[i][c];

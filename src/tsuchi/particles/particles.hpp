@@ -30,7 +30,7 @@ struct Particles {
   std::vector<double> state_initial;
   std::vector<std::int32_t> material_p;
   std::vector<std::int32_t> body_p;
-  std::vector<std::int32_t> id_p;  // stable identity, survives reordering
+  std::vector<std::int64_t> id_p;  // stable identity, survives reordering (64-bit: models beyond 2^31 particles)
 
   std::size_t size() const { return x_p.size(); }
 
@@ -103,7 +103,7 @@ struct Particles {
 
   static constexpr std::size_t bytes_per_particle(std::size_t state_columns) {
     return 4 * sizeof(Vec<D>) + (2 + state_columns) * sizeof(double) + 3 * sizeof(Voigt<D>) +
-           3 * sizeof(std::int32_t);
+           2 * sizeof(std::int32_t) + sizeof(std::int64_t);
   }
   std::size_t bytes_per_particle() const { return bytes_per_particle(state.size()); }
 };

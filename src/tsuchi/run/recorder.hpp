@@ -36,7 +36,7 @@ class Recorder {
   // Storage indices of the set and their ids, found again whenever the particles were reordered
   // (a check of count_ ids per evaluation, a pass over all particles only after a reordering).
   mutable std::vector<std::size_t> index_;
-  mutable std::vector<std::int32_t> index_id_;
+  mutable std::vector<std::int64_t> index_id_;
   const std::vector<std::size_t>& indices(const Particles<D>& p) const;
 };
 

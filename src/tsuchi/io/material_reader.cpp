@@ -28,55 +28,6 @@ LinearElastic read_elastic(Section& s, std::vector<std::string>* warnings) {
   return has_E ? LinearElastic::from_young(modulus, nu) : LinearElastic::from_shear(modulus, nu);
 }
 
-// Angles are in degrees; one below 1 degree was most likely given in radians.
-void check_angle(const Section& s, std::vector<std::string>* warnings, std::string_view key, double degrees) {
-  if (degrees > 0.0 && degrees < 1.0)
-    warn(s, warnings, key,
-         fmt::format("{:g} degrees is below 1 degree; angles are in degrees ({:g} radians would be {:.4g} degrees)",
-                     degrees, degrees, degrees * 180.0 / std::numbers::pi));
-}
-
-// Angles are given in degrees, as in every soil report.
-MohrCoulomb read_mohr_coulomb(Section& s, const LinearElastic& elastic, std::vector<std::string>* warnings) {
-  constexpr double rad = std::numbers::pi / 180.0;
-  MohrCoulomb m;
-  m.elastic = elastic;
-  m.cohesion = s.number("cohesion", "a cohesion >= 0 in Pa", non_negative);
-  const double phi = s.number("friction_angle", "a friction angle in degrees, in (0, 90)",
-                              [](double v) { return v > 0.0 && v < 90.0; });
-  const double psi = s.number("dilatancy_angle", "a dilatancy angle in degrees, in [0, friction_angle]",
-                              [](double v) { return v >= 0.0 && v < 90.0; }, 0.0);
-  check_angle(s, warnings, "friction_angle", phi);
-  check_angle(s, warnings, "dilatancy_angle", psi);
-  if (psi > phi)
-    s.fail("dilatancy_angle",
-           fmt::format("expected a dilatancy angle no larger than the friction angle ({} degrees), got {}", phi, psi));
-  m.phi = phi * rad;
-  m.psi = psi * rad;
-  // Above the apex c / tan(phi) a tension strength has no meaning; (29) caps it there.
-  m.tension = s.number("tension_strength", "a tension strength >= 0 in Pa", non_negative, 0.0);
-  m.tension = std::min(m.tension, m.cohesion / std::tan(m.phi));
-  m.tension_rule = static_cast<TensionRule>(s.choice("tension_rule", {"flac", "paper"}, 0));
-  // Each rule goes with its own selection unless told otherwise.
-  const int rule = static_cast<int>(m.tension_rule);
-  m.tension_selection = static_cast<TensionSelection>(s.choice("tension_selection", {"flac", "paper"}, rule));
-  if (m.tension_rule == TensionRule::Paper && m.tension_selection == TensionSelection::Flac)
-    s.fail("tension_selection",
-           "tension_rule = \"paper\" needs tension_selection = \"paper\": with FLAC's h-function the release "
-           "and the shear return meet at different stresses where h = 0, so the result would jump");
-  return m;
-}
-
-// The parameters of each registered model (material/material.hpp), past its elastic moduli: a new
-// model adds its reader here.
-LinearElastic read_parameters(Section&, const LinearElastic& elastic, std::vector<std::string>*, const LinearElastic*) {
-  return elastic;
-}
-MohrCoulomb read_parameters(Section& s, const LinearElastic& elastic, std::vector<std::string>* warnings,
-                            const MohrCoulomb*) {
-  return read_mohr_coulomb(s, elastic, warnings);
-}
-
 // The names of the registered models, in registration order, and the reader of the n-th.
 template <class... M>
 std::vector<std::string> model_names(std::variant<M...>*) {
@@ -85,7 +36,9 @@ std::vector<std::string> model_names(std::variant<M...>*) {
 template <std::size_t I = 0>
 ConstitutiveModel read_model(std::size_t n, Section& s, const LinearElastic& elastic, std::vector<std::string>* warnings) {
   using M = std::variant_alternative_t<I, ConstitutiveModel>;
-  if (n == I) return read_parameters(s, elastic, warnings, static_cast<const M*>(nullptr));
+  // Each model reads its own parameters (read_model_parameters, beside the model in material/).
+  const auto note = [&](std::string_view key, const std::string& msg) { warn(s, warnings, key, msg); };
+  if (n == I) return read_model_parameters(s, elastic, note, std::type_identity<M>{});
   if constexpr (I + 1 < std::variant_size_v<ConstitutiveModel>) return read_model<I + 1>(n, s, elastic, warnings);
   else return elastic;  // unreachable: n is the index of a name
 }

@@ -4,6 +4,7 @@
 #include "tsuchi/material/state_field.hpp"
 
 #include <array>
+#include <type_traits>
 #include <string>
 
 namespace tsuchi {
@@ -59,5 +60,11 @@ struct LinearElastic {
     return p * p / (2.0 * K) + contract<D>(dev, dev) / (4.0 * G);
   }
 };
+
+// Its parameters from an input table: the moduli, which every model's reader has read already.
+template <class Table, class Warn>
+LinearElastic read_model_parameters(Table&, const LinearElastic& elastic, Warn&&, std::type_identity<LinearElastic>) {
+  return elastic;
+}
 
 }  // namespace tsuchi

@@ -11,11 +11,15 @@
 //   const LinearElastic& stiffness(StateRef) const;         current moduli: time step, energy
 //   Inadmissible outside(const Eigen::Vector3d& principal, StateRef) const;  starting-stress check
 //   std::string describe() const;                            its parameters, for the run summary
-// and is registered by adding it to ConstitutiveModel below (and its reader to
-// io/material_reader.cpp). Everything else - particle storage, frame fields, recorder quantities,
-// checkpoints, the time step - follows from these.
+// with a reader of its input parameters beside it,
+//   template <class Table, class Warn> M read_model_parameters(Table&, const LinearElastic& moduli,
+//                                                              Warn&& warn, std::type_identity<M>);
+// and is registered by adding it to ConstitutiveModel below (its header included here). Nothing
+// else changes: the input reader, particle storage, frame fields, recorder quantities,
+// checkpoints and the time step follow from these.
 #include "tsuchi/material/linear_elastic.hpp"
 #include "tsuchi/material/mohr_coulomb.hpp"
+#include "tsuchi/material/mohr_coulomb_input.hpp"
 #include "tsuchi/material/state_field.hpp"
 
 #include <array>

@@ -37,10 +37,6 @@ struct Material {
   std::string name;
   double density = 0.0;  // kg/m^3
   ConstitutiveModel model;
-
-  std::string_view model_name() const {
-    return std::visit([](const auto& m) -> std::string_view { return m.name; }, model);
-  }
 };
 
 // Every state field of every registered model, each name once, in the order of ConstitutiveModel

@@ -1,6 +1,8 @@
 // The field registries (issue 14): a constitutive model's state fields become particle columns,
 // frame fields, recorder quantities and checkpoint sections under one name, with nothing listed
 // by hand; the time step reads the model's stiffness.
+#include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/checkpoint.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/particle_fields.hpp"
 #include "tsuchi/run/recorder.hpp"
@@ -92,6 +94,9 @@ TEST(FieldRegistry, EveryStateFieldIsAFrameFieldRecorderQuantityAndColumn) {
   }
   std::set<std::string> names;
   for (const auto& f : particle_fields()) EXPECT_TRUE(names.insert(f.name).second) << f.name << " twice";
+  // A state field named like a built-in array would give the checkpoint two sections of one name.
+  std::set<std::string> sections;
+  for (const auto& a : arrays) EXPECT_TRUE(sections.insert(a).second) << "particle array " << a << " twice";
 }
 
 // Vectors record their D components, symmetric tensors their Voigt entries (4 in 2D, 6 in 3D).
@@ -131,6 +136,25 @@ TEST(FieldRegistry, TimeStepUsesTheModelsStiffness) {
   const double G = 2.0e6, nu = 0.25, K = 2.0 * G * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu));
   const double expected = 0.05 / (std::sqrt((K + 4.0 * G / 3.0) / 1600.0) + 0.5);
   EXPECT_NEAR(critical_time_step<2>(m.particles, m.materials, m.grid.h), expected, 1e-12 * expected);
+}
+
+// A flag column is written to frames as a byte: a checkpoint holding anything else is refused.
+TEST(FieldRegistry, CheckpointRefusesAFlagOutOfRange) {
+  tsuchi::test::TempDir tmp("tsuchi_registry");
+  Model<2> m = build_model<2>(read_config_string(kBlock, "block.toml"));
+  (*m.particles.state_column("yield_mode"))[3] = 300.0;
+  const std::string file = (tmp.path / "c.tsuchi").string();
+  write_checkpoint<2>(file, m, RunProgress{});
+  Model<2> fresh = build_model<2>(read_config_string(kBlock, "block.toml"));
+  try {
+    read_checkpoint<2>(file, fresh);
+    ADD_FAILURE() << "a yield mode of 300 was accepted";
+  } catch (const InputError& e) {
+    tsuchi::test::expect_message(e.what(), {"yield_mode = 300", "whole number from 0 to 255"});
+  }
+  (*m.particles.state_column("yield_mode"))[3] = 2.0;
+  write_checkpoint<2>(file, m, RunProgress{});
+  EXPECT_NO_THROW(read_checkpoint<2>(file, fresh));
 }
 
 }  // namespace

@@ -9,8 +9,11 @@ namespace tsuchi {
 namespace {
 volatile std::sig_atomic_t received = 0;  // the first signal
 volatile std::sig_atomic_t count = 0;     // signals so far
-volatile std::sig_atomic_t saved = 0;     // the checkpoint after the first signal is complete
-char saved_message[4096] = "";           // what interrupt_saved() was told, written before `saved` is set
+// The checkpoint after the first signal is complete. An atomic, not a sig_atomic_t: the signal may
+// be handled on another thread (an OpenMP worker), and the message must be seen whole there.
+std::atomic<int> saved{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the signal handler reads `saved`");
+char saved_message[4096] = "";  // what interrupt_saved() was told, written before `saved` is set
 
 void say(const char* text) {
   std::size_t n = 0;
@@ -21,7 +24,7 @@ void say(const char* text) {
 extern "C" void on_signal(int s) {
   if (received == 0) received = s;
   count = count + 1;
-  if (saved) {
+  if (saved.load(std::memory_order_acquire)) {
     say("\ninterrupted: ");
     say(saved_message);
     say("\n");
@@ -49,11 +52,11 @@ void install_interrupt_handlers() {
 int pending_interrupt() { return received; }
 
 void interrupt_saved(const char* message) {
-  std::size_t n = 0;
+  if (message[0] == '\0') message = "the state was saved; stopping now";
+  std::size_t n = 0;  // a longer message is cut (the restart command is far shorter in practice)
   for (; message[n] != '\0' && n + 1 < sizeof saved_message; ++n) saved_message[n] = message[n];
   saved_message[n] = '\0';
-  std::atomic_signal_fence(std::memory_order_seq_cst);  // the message is whole before the handler may read it
-  saved = 1;
+  saved.store(1, std::memory_order_release);  // the message is whole before the handler may read it
 }
 
 }  // namespace tsuchi

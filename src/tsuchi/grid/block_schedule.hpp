@@ -65,7 +65,7 @@ class BlockSchedule {
   void scatter(F&& f) const {
     for (const auto& blocks : colour_blocks_) {
       const auto nb = static_cast<std::int64_t>(blocks.size());
-      // Runs of blocks per grab: two same-colour blocks two apart both write the tile between
+      // Runs of blocks per grab: neighbouring blocks of one colour both write the tiles between
       // them, and threads taking alternate blocks would write the same cache lines at once. Runs
       // of 2 when a colour has few blocks, so that the threads still end close together.
       const std::int64_t run = nb >= 64 ? 4 : 2;

@@ -153,6 +153,9 @@ void check_particles(const Particles<D>& p, const Model<D>& model, const Decoder
   const auto nmat = static_cast<std::int32_t>(model.materials.size());
   if (!all_finite(p)) in.fail("a particle value is not finite");
   std::vector<bool> seen(n, false);
+  std::vector<std::size_t> flags;  // state columns of flag fields (written to frames as bytes)
+  for (std::size_t k = 0; k < material_state_fields().size(); ++k)
+    if (material_state_fields()[k].flag) flags.push_back(k);
   for (std::size_t i = 0; i < n; ++i) {
     if (p.body_p[i] < 0 || p.body_p[i] >= nbodies) in.fail(fmt::format("particle {} names body {}", i, p.body_p[i]));
     if (p.material_p[i] < 0 || p.material_p[i] >= nmat)
@@ -160,6 +163,11 @@ void check_particles(const Particles<D>& p, const Model<D>& model, const Decoder
     if (p.id_p[i] < 0 || static_cast<std::size_t>(p.id_p[i]) >= n || seen[static_cast<std::size_t>(p.id_p[i])])
       in.fail(fmt::format("particle {} has an invalid or repeated id {}", i, p.id_p[i]));
     seen[static_cast<std::size_t>(p.id_p[i])] = true;
+    for (std::size_t k = 0; k < flags.size(); ++k) {
+      const double v = p.state[flags[k]][i];
+      if (!(v >= 0.0 && v <= 255.0 && v == std::floor(v)))
+        in.fail(fmt::format("particle {} has {} = {}, expected a whole number from 0 to 255", i, p.state_name[flags[k]], v));
+    }
     if (!(p.m_p[i] > 0.0) || !(p.V_p[i] > 0.0)) in.fail(fmt::format("particle {} has no mass or volume", i));
     for (int d = 0; d < D; ++d) {
       // The domain update keeps 0 < l_p <= h/2 (particle_domain.hpp); the GIMP weights assume it.

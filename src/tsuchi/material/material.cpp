@@ -1,6 +1,8 @@
 #include "tsuchi/material/material.hpp"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace tsuchi {
 
@@ -9,9 +11,15 @@ namespace {
 template <class... M>
 std::vector<StateField> union_of_fields(std::variant<M...>*) {
   std::vector<StateField> all;
+  // Models may share a field (a yield mode, a plastic strain) only if they mean the same by it.
   const auto add = [&](const auto& fields) {
-    for (const StateField& f : fields)
-      if (std::none_of(all.begin(), all.end(), [&](const StateField& g) { return g.name == f.name; })) all.push_back(f);
+    for (const StateField& f : fields) {
+      const auto same = std::find_if(all.begin(), all.end(), [&](const StateField& g) { return g.name == f.name; });
+      if (same == all.end()) all.push_back(f);
+      else if (same->initial != f.initial || same->flag != f.flag || same->unit != f.unit || same->indicator != f.indicator)
+        throw std::logic_error("two constitutive models declare state field '" + std::string(f.name) +
+                               "' with different initial values, units or kinds");
+    }
   };
   (add(M::state_fields), ...);
   return all;

@@ -1,17 +1,21 @@
 #pragma once
 // A named material: density plus one constitutive model. The model is a small value type chosen
-// once per material group (std::visit outside the particle loop), never per particle.
+// once per material group in the step's loops (std::visit outside the particle loop); only code
+// off the hot path (output rows, messages) visits per particle.
 //
 // A constitutive model M is a type with
 //   static constexpr std::string_view name;                 the input's `model = "..."`
 //   static constexpr std::array<StateField, N> state_fields; its per-point history (state_field.hpp)
-//   Context context() const;                                 what all its points share in a step
+//   struct Context; Context context() const;                 what all its points share in a step
 //   template <int D> void update(Voigt<D>& sigma, const Voigt<D>& d_eps, const Mat<D>& d_omega,
 //                                const Context&, StateRef state) const;   one step of one point
 //   const LinearElastic& stiffness(StateRef) const;         current moduli: time step, energy
+//                                     (may return by value; must not write the state)
 //   Inadmissible outside(const Eigen::Vector3d& principal, StateRef) const;  starting-stress check
-//   std::string describe() const;                            its parameters, for the run summary
-// with a reader of its input parameters beside it,
+//   std::string describe() const;     its parameters after the moduli, starting ", " (tsuchi element)
+// optionally k0_hint (a string_view added to a refused K0 profile) and imperfection_limit() (why
+// an imperfection cannot apply), and
+// with a reader of its input parameters beside it, in namespace tsuchi,
 //   template <class Table, class Warn> M read_model_parameters(Table&, const LinearElastic& moduli,
 //                                                              Warn&& warn, std::type_identity<M>);
 // and is registered by adding it to ConstitutiveModel below (its header included here). Nothing

@@ -5,19 +5,25 @@
 #include "tsuchi/particles/particles.hpp"
 
 #include <array>
+#include <stdexcept>
 #include <vector>
 
 namespace tsuchi {
 
 template <class M, int D>
 std::array<double*, M::state_fields.size()> state_columns(Particles<D>& p) {
+  // Particles built without declare_state_columns() (below) have no columns to point into.
+  if (p.state.size() != material_state_fields().size())
+    throw std::logic_error("particles without the material state columns (declare_state_columns)");
   std::array<double*, M::state_fields.size()> c{};
   const auto& index = state_columns_of<M>();
   for (std::size_t k = 0; k < c.size(); ++k) c[k] = p.state[static_cast<std::size_t>(index[k])].data();
   return c;
 }
 
-// For code that only reads the state (a StateRef is writable: the caller promises not to write).
+// For code that only reads the state: stiffness(), outside(). A StateRef is writable; those
+// methods are const and must not write (a model that cached something there would make results
+// depend on how often output is written).
 template <class M, int D>
 std::array<double*, M::state_fields.size()> state_columns(const Particles<D>& p) {
   return state_columns<M>(const_cast<Particles<D>&>(p));

@@ -66,7 +66,7 @@ double Recorder<D>::value(const Particles<D>& p) const {
     case RecorderConfig::Reduction::Sum:
       for (auto i : set) r += field_value(*field_, p, i, component_);
       r = reduce::sum(r);
-      if (c_.reduction == RecorderConfig::Reduction::Mean) r /= static_cast<double>(count_);
+      if (c_.reduction == RecorderConfig::Reduction::Mean) r /= reduce::sum(static_cast<double>(count_));
       break;
     case RecorderConfig::Reduction::Min:
       r = std::numeric_limits<double>::infinity();

@@ -1,6 +1,7 @@
 #include "tsuchi/io/appended_file.hpp"
 
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/atomic_file.hpp"
 
 #include <fmt/format.h>
 #include <zlib.h>
@@ -32,11 +33,13 @@ AppendedFile::~AppendedFile() {
 
 void AppendedFile::create(const std::string& path, std::string_view header) {
   path_ = path;
-  fd_ = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  // The header goes in whole under the final name (temporary file, then rename): a run killed
+  // before its first rows leaves a CSV with its header, never an empty or half-written one.
+  write_file_atomically(path, header);
+  fd_ = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
   if (fd_ < 0) throw OutputError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));
-  bytes_ = written_ = 0;
-  crc_ = 0;
-  append(header);
+  bytes_ = written_ = header.size();
+  crc_ = crc32_update(0, header);
 }
 
 void AppendedFile::resume(const std::string& path, std::uint64_t bytes, std::uint32_t crc) {

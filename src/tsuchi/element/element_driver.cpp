@@ -128,9 +128,9 @@ class Driver {
     r.strain = strain;
     r.stress = s.stress;
     // The element CSV's state columns (element_csv.cpp), from the model's fields of those names.
-    r.mode = static_cast<YieldMode>(static_cast<int>(s.state.field("yield_mode")));
-    r.plastic_shear_strain = s.state.field("plastic_shear_strain");
-    r.plastic_volumetric_strain = s.state.field("plastic_volumetric_strain");
+    r.mode = static_cast<YieldMode>(static_cast<int>(s.state.field(field_name::yield_mode)));
+    r.plastic_shear_strain = s.state.field(field_name::plastic_shear_strain);
+    r.plastic_volumetric_strain = s.state.field(field_name::plastic_volumetric_strain);
     return r;
   }
 

@@ -143,7 +143,7 @@ void read_imperfection(Section& s, const Config& c, BodyConfig& b) {
   auto& im = b.imperfection;
   const Material& mat = c.materials[b.material_index];
   // An imperfection scales the strength factors of the material's state.
-  if (!has_state_field(mat, "cohesion_factor") || !has_state_field(mat, "friction_factor"))
+  if (!has_state_field(mat, field_name::cohesion_factor) || !has_state_field(mat, field_name::friction_factor))
     s.fail_here(fmt::format("material \"{}\" of body \"{}\" has no strength to perturb; an imperfection needs "
                             "a \"mohr_coulomb\" material", mat.name, b.name));
   im.amplitude = s.number("amplitude", "a relative amplitude in [0, 1)", [](double v) { return v >= 0 && v < 1; });

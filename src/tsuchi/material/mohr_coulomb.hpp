@@ -58,11 +58,11 @@ struct MohrCoulomb {
   // The state of a point (material/state_field.hpp), in this order.
   enum StateIndex : std::size_t { kMode, kPlasticShear, kPlasticVolume, kCohesionFactor, kFrictionFactor };
   static constexpr std::array<StateField, 5> state_fields{{
-      {"yield_mode", "", 0.0, true, "yielded", "surface the stress ended on in the last step: 0 elastic, 1 shear, 2 tension"},
-      {"plastic_shear_strain", "", 0.0, false, "", "accumulated eps1_p - eps3_p of the plastic strain increments"},
-      {"plastic_volumetric_strain", "", 0.0, false, "", "accumulated plastic volumetric strain, dilation positive"},
-      {"cohesion_factor", "", 1.0, false, "", "c of the point / c of the material: 1 + d of the imperfection"},
-      {"friction_factor", "", 1.0, false, "", "phi of the point / phi of the material: 1 + d of the imperfection"},
+      {field_name::yield_mode, "", 0.0, true, "yielded", "surface the stress ended on in the last step: 0 elastic, 1 shear, 2 tension"},
+      {field_name::plastic_shear_strain, "", 0.0, false, "", "accumulated eps1_p - eps3_p of the plastic strain increments"},
+      {field_name::plastic_volumetric_strain, "", 0.0, false, "", "accumulated plastic volumetric strain, dilation positive"},
+      {field_name::cohesion_factor, "", 1.0, false, "", "c of the point / c of the material: 1 + d of the imperfection"},
+      {field_name::friction_factor, "", 1.0, false, "", "phi of the point / phi of the material: 1 + d of the imperfection"},
   }};
 
   LinearElastic elastic;

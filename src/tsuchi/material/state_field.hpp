@@ -19,6 +19,18 @@ struct StateField {
   std::string_view description;  // one line, for docs and messages
 };
 
+// Names of state fields that code outside a model's own file relies on: the imperfection scales
+// the strength factors, the element-test CSV shows the yield mode and the plastic strains. A model
+// that has such a field declares it under this name (a rename is then a compile error, not a
+// silent 0).
+namespace field_name {
+inline constexpr std::string_view yield_mode = "yield_mode";
+inline constexpr std::string_view plastic_shear_strain = "plastic_shear_strain";
+inline constexpr std::string_view plastic_volumetric_strain = "plastic_volumetric_strain";
+inline constexpr std::string_view cohesion_factor = "cohesion_factor";
+inline constexpr std::string_view friction_factor = "friction_factor";
+}  // namespace field_name
+
 // The state of one point, as the update sees it: field k of the model's list is column[k][i].
 // Particles keep one flat column per field; a single point (an element test) points each column
 // at one number and uses i = 0.

@@ -81,8 +81,8 @@ void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m
   const bool imperfect = b.imperfection.amplitude > 0.0 && (b.imperfection.cohesion || b.imperfection.friction);
   // The imperfection scales the strength factors of the material's state (the input reader has
   // checked that its model has them).
-  std::vector<double>* c_factor = imperfect ? p.state_column("cohesion_factor") : nullptr;
-  std::vector<double>* phi_factor = imperfect ? p.state_column("friction_factor") : nullptr;
+  std::vector<double>* c_factor = imperfect ? p.state_column(std::string(field_name::cohesion_factor)) : nullptr;
+  std::vector<double>* phi_factor = imperfect ? p.state_column(std::string(field_name::friction_factor)) : nullptr;
   for (std::size_t q = start; q < p.size(); ++q) {
     p.sigma_p[q] = initial_stress<D>(b.initial_stress, frame, mat.density, p.x_p[q]);
     if (b.initial_stress.subtract) p.sigma0_p[q] = p.sigma_p[q];

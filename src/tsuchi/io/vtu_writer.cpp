@@ -41,7 +41,7 @@ class VtuBuilder {
 template <class T, int D>
 std::vector<T> field_array(const ParticleField& f, const Particles<D>& p, int components) {
   const std::size_t n = p.size();
-  const int used = f.kind == FieldKind::Vector ? D : f.kind == FieldKind::Tensor ? n_voigt<D> : 1;
+  const int used = tsuchi::components(f, D);  // the frame pads vectors to 3 and tensors to 6
   std::vector<T> r(static_cast<std::size_t>(components) * n, T{});
   for (std::size_t i = 0; i < n; ++i)
     for (int c = 0; c < used; ++c) r[static_cast<std::size_t>(components) * i + c] = static_cast<T>(field_value(f, p, i, c));

@@ -55,15 +55,6 @@ std::vector<ParticleField> build_registry() {
   return r;
 }
 
-int components(const ParticleField& f, int dim) {
-  switch (f.kind) {
-    case FieldKind::Scalar: return 1;
-    case FieldKind::Vector: return dim;
-    case FieldKind::Tensor: return dim == 2 ? 4 : 6;
-  }
-  return 1;
-}
-
 std::string component_name(const ParticleField& f, int c) {
   switch (f.kind) {
     case FieldKind::Scalar: return f.name;
@@ -91,6 +82,15 @@ std::vector<std::string> frame_field_names() {
   for (const auto& f : particle_fields())
     if (f.frame) n.push_back(f.name);
   return n;
+}
+
+int components(const ParticleField& f, int dim) {
+  switch (f.kind) {
+    case FieldKind::Scalar: return 1;
+    case FieldKind::Vector: return dim;
+    case FieldKind::Tensor: return dim == 2 ? 4 : 6;
+  }
+  return 1;
 }
 
 std::vector<std::string> recorder_quantities(int dimension) {

@@ -44,6 +44,9 @@ const ParticleField* find_particle_field(std::string_view name);
 // output.fields: the names of the frame fields.
 std::vector<std::string> frame_field_names();
 
+// Components field f has in a model of `dimension`: 1, D, or the Voigt entries (4 in 2D, 6 in 3D).
+int components(const ParticleField& f, int dimension);
+
 // Recorder quantities of a model of `dimension`: each recorder field's name or component names.
 std::vector<std::string> recorder_quantities(int dimension);
 // The field and component (axis, or Voigt index) a recorder quantity names, if it names one.

@@ -38,8 +38,8 @@ struct Particles {
   void set_state_columns(std::vector<std::string> names, std::vector<double> initial) {
     state_name = std::move(names);
     state_initial = std::move(initial);
-    state.assign(state_name.size(), std::vector<double>(size()));
-    for (std::size_t k = 0; k < state.size(); ++k) std::fill(state[k].begin(), state[k].end(), state_initial[k]);
+    state.clear();
+    for (const double v : state_initial) state.emplace_back(size(), v);
   }
   // The column of the state field `name`, or nullptr.
   std::vector<double>* state_column(const std::string& name) {

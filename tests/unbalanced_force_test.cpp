@@ -10,6 +10,7 @@
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <cstdio>
@@ -140,6 +141,30 @@ TEST(UnbalancedForce, RecorderTakesNoParticleSet) {
     }
   }
   EXPECT_THROW(read_config_string(replace(kColumn, "unbalanced_force_ratio", "unbalanced_force"), "c.toml", {}), InputError);
+  try {
+    read_config_string(kColumn, "column.toml", {"output.frame_label=\"ratio\""});
+    ADD_FAILURE() << "frame_label = a whole-model recorder accepted";
+  } catch (const InputError& e) {
+    expect_message(e.what(), {"frame_label", "no value before the first step"});
+  }
+}
+
+// The per-tile partial sums are added in tile order: 1 and 2 threads give bitwise the same ratio.
+TEST(UnbalancedForce, SameForEveryThreadCount) {
+  auto ratios = [](int threads) {
+    const Config c = read_config_string(kColumn, "column.toml", {"time.end=0.02"});
+    Model<2> m = build_model<2>(c);
+    std::vector<double> r;
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    run_simulation<2>(m, c, no_output(), [&](const ExplicitSolver<2>& s) { r.push_back(s.unbalanced_force_ratio()); });
+    omp_set_num_threads(before);
+    return r;
+  };
+  const auto one = ratios(1), two = ratios(2);
+  ASSERT_EQ(one.size(), two.size());
+  ASSERT_FALSE(one.empty());
+  for (std::size_t k = 0; k < one.size(); ++k) ASSERT_EQ(one[k], two[k]) << "step " << k + 1;
 }
 
 }  // namespace

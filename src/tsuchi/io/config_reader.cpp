@@ -512,6 +512,10 @@ Config read_document(const toml::table& root, const std::string& file) {
                                          c.recorders.empty() ? std::string("none defined")
                                                              : quoted_list(c.recorders, &RecorderConfig::name),
                                          printable(c.output.frame_label)));
+    if (it->whole_model())
+      os.fail("frame_label", fmt::format("recorder \"{}\" records the whole-model {}, which has no value before the "
+                                         "first step; label the frames by a particle quantity's recorder",
+                                         it->name, it->quantity));
     c.output.frame_label_recorder = static_cast<int>(it - c.recorders.begin());
   }
   top.finish();

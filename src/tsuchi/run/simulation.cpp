@@ -288,9 +288,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         // The way from the start value to each bound that lies ahead of it. Not for the
         // unbalanced-force ratio: it has no start value (NaN before the first step) and decays
         // neither linearly nor monotonically, so the time fraction stands for it.
-        if (!r.whole_model())
-          for (const auto& [bound, sign] : {std::pair{rc.stop_above, 1.0}, std::pair{rc.stop_below, -1.0}}) {
-          if (!bound || sign * (*bound - recorder_start[k]) <= 0.0) continue;
+        for (const auto& [bound, sign] : {std::pair{rc.stop_above, 1.0}, std::pair{rc.stop_below, -1.0}}) {
+          if (!bound || r.whole_model() || sign * (*bound - recorder_start[k]) <= 0.0) continue;
           const double f = std::clamp((value - recorder_start[k]) / (*bound - recorder_start[k]), 0.0, 1.0);
           if (f > progress.fraction)
             progress.fraction = f, progress.leader = rc.name, progress.leader_value = value, progress.leader_bound = *bound;

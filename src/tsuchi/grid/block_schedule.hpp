@@ -98,6 +98,10 @@ class BlockSchedule {
     }
   }
 
+  // The active tiles, increasing: for reductions that combine per-tile partial results in tile
+  // order, the same for every thread count.
+  const std::vector<std::int32_t>& active_tiles() const { return active_tiles_; }
+
  private:
   bool valid_ = false;                          // built, and the particles not reordered since
   std::array<int, D> blocks_{};

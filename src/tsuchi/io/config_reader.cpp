@@ -419,9 +419,16 @@ void read_recorder(Section& s, Config& c) {
   else s.get("min");
   if (s.has("max")) r.max = s.vector("max", dim, "m (initial positions)", any);
   else s.get("max");
-  r.quantity = s.string("quantity", "a particle quantity");
-  if (!find_recorder_quantity(r.quantity, dim)) {
-    s.fail("quantity", fmt::format("expected one of {}, got \"{}\"", quoted_list(recorder_quantities(dim)), r.quantity));
+  r.quantity = s.string("quantity", "a particle quantity, or unbalanced_force_ratio");
+  if (r.whole_model()) {
+    // One number for the whole model: no particle set to choose or reduce.
+    for (const char* key : {"body", "min", "max", "reduction"})
+      if (s.has(key))
+        s.fail(key, fmt::format("recorder \"{}\": quantity \"{}\" is a whole-model number; it takes no '{}' (remove it)",
+                                r.name, r.quantity, key));
+  } else if (!find_recorder_quantity(r.quantity, dim)) {
+    s.fail("quantity", fmt::format("expected one of {} or \"{}\", got \"{}\"", quoted_list(recorder_quantities(dim)),
+                                   kUnbalancedForceRatio, r.quantity));
   }
   r.reduction = static_cast<RecorderConfig::Reduction>(s.choice("reduction", {"mean", "sum", "min", "max"}, 0));
   r.scale = s.number("scale", "a finite factor", any, 1.0);
@@ -505,6 +512,10 @@ Config read_document(const toml::table& root, const std::string& file) {
                                          c.recorders.empty() ? std::string("none defined")
                                                              : quoted_list(c.recorders, &RecorderConfig::name),
                                          printable(c.output.frame_label)));
+    if (it->whole_model())
+      os.fail("frame_label", fmt::format("recorder \"{}\" records the whole-model {}, which has no value before the "
+                                         "first step; label the frames by a particle quantity's recorder",
+                                         it->name, it->quantity));
     c.output.frame_label_recorder = static_cast<int>(it - c.recorders.begin());
   }
   top.finish();

@@ -47,7 +47,9 @@ class OutputWriter {
   // output.frame_label recorder).
   void frame(double label);
   // A row of global.csv, and of recorders.csv with the recorders' values (in the order of the names).
-  void global_row(double time, std::int64_t step, double dt, const std::vector<double>& recorder_values);
+  // unbalanced_force_ratio: the solver's, of the step that ends at `time` (NaN written as nan before the first step).
+  void global_row(double time, std::int64_t step, double dt, double unbalanced_force_ratio,
+                  const std::vector<double>& recorder_values);
   // Writes the queued CSV rows to the files (done with every frame, at the end of a run and by the
   // run loop every half minute); with `sync`, also to disk, as before a checkpoint.
   void flush_global(bool sync = false);

@@ -119,8 +119,14 @@ struct OutputConfig {
 
 // A recorded quantity: `reduction` over a particle set of one per-particle quantity, written as
 // scale * value + offset to recorders.csv; optionally the run stops when it crosses a bound.
+// The recorder quantity that is a whole-model number rather than a reduction over particles:
+// the solver's unbalanced-force ratio (ExplicitSolver::unbalanced_force_ratio()). A recorder of
+// it takes no body, min, max or reduction.
+inline constexpr const char* kUnbalancedForceRatio = "unbalanced_force_ratio";
+
 struct RecorderConfig {
   enum class Reduction { Mean, Sum, Min, Max };
+  bool whole_model() const { return quantity == kUnbalancedForceRatio; }
   std::string name;
   int body = -1;                       // -1: every body
   std::optional<Triple> min, max;      // box of initial positions; unset: no limit

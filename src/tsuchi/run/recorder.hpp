@@ -7,6 +7,7 @@
 #include "tsuchi/model/config.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/model/particle_fields.hpp"
+#include "tsuchi/solver/explicit_step.hpp"
 
 #include <string>
 #include <vector>
@@ -19,7 +20,11 @@ class Recorder {
   // Throws InputError (naming `index`, its place in the input's recorders) when the set is empty.
   Recorder(const RecorderConfig& config, std::size_t index, const Model<D>& model);
 
-  double value(const Particles<D>& p) const;  // scale * reduction + offset
+  double value(const Particles<D>& p) const;  // scale * reduction + offset (a particle quantity)
+  // scale * quantity + offset, for either kind: a particle quantity of the solver's particles, or
+  // the whole-model unbalanced_force_ratio of its latest step (NaN before the first step).
+  double value(const ExplicitSolver<D>& solver) const;
+  bool whole_model() const { return c_.whole_model(); }
   const RecorderConfig& config() const { return c_; }
   std::size_t size() const { return count_; }
   // Non-empty when the value has crossed its stop bound: says which and where.

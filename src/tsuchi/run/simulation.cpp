@@ -142,15 +142,15 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   for (const auto& r : recorders) recorder_names.push_back(r.config().name);
   std::vector<double> recorder_values(recorders.size());
   auto recorder_row = [&]() -> const std::vector<double>& {
-    for (std::size_t k = 0; k < recorders.size(); ++k) recorder_values[k] = recorders[k].value(model.particles);
+    for (std::size_t k = 0; k < recorders.size(); ++k) recorder_values[k] = recorders[k].value(solver);
     return recorder_values;
   };
   // Where each recorder with a stop bound starts (the initial state, also for a restart), for the
   // progress it makes towards the bound.
   std::vector<double> recorder_start(recorders.size(), 0.0);
   for (std::size_t k = 0; k < recorders.size(); ++k)
-    if (recorders[k].config().stop_above || recorders[k].config().stop_below)
-      recorder_start[k] = recorders[k].value(model.particles);
+    if ((recorders[k].config().stop_above || recorders[k].config().stop_below) && !recorders[k].whole_model())
+      recorder_start[k] = recorders[k].value(solver);
   if (options.write_output) check_output_paths(config, dir, ck_path);
   RunProgress start;
   if (options.restart) {
@@ -174,9 +174,9 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   }
   // Frames are labelled by time, or by the value of the output.frame_label recorder.
   const Recorder<D>* label = oc.frame_label_recorder >= 0 ? &recorders[static_cast<std::size_t>(oc.frame_label_recorder)] : nullptr;
-  auto write_frame = [&](double time) { out->frame(label ? label->value(model.particles) : time); };
+  auto write_frame = [&](double time) { out->frame(label ? label->value(solver) : time); };
   if (out && !options.restart) {
-    out->global_row(0.0, 0, 0.0, recorder_row());
+    out->global_row(0.0, 0, 0.0, solver.unbalanced_force_ratio(), recorder_row());
     write_frame(0.0);
   }
   std::string stopped_by;
@@ -189,7 +189,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   auto next_label = [&](double value) {
     label_index = static_cast<std::int64_t>(std::floor(value / oc.label_interval)) + 1;
   };
-  if (!options.restart && label && oc.label_interval > 0.0) next_label(label->value(model.particles));
+  if (!options.restart && label && oc.label_interval > 0.0) next_label(label->value(solver));
   auto frame_time = [&](std::int64_t k) { return oc.interval > 0 ? std::min(end, static_cast<double>(k) * oc.interval) : end; };
   // A restart may come with another output interval or end time: skip frame times already past.
   while (frame_time(frame_index) <= start.time && frame_time(frame_index) < end) ++frame_index;
@@ -254,7 +254,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
       if (after_step) after_step(solver);
       if (out) {
         if (oc.global_interval <= 0.0 || now >= next_row - tol) {
-          out->global_row(now, solver.steps(), dt, recorder_row());
+          out->global_row(now, solver.steps(), dt, solver.unbalanced_force_ratio(), recorder_row());
           last_row = now;
           if (oc.global_interval > 0.0) {
             row_index = static_cast<std::int64_t>(std::floor((now + tol) / oc.global_interval)) + 1;
@@ -266,7 +266,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
           last_flush = clock::now();
         }
       }
-      const double label_value = label && oc.label_interval > 0.0 ? label->value(model.particles) : 0.0;
+      const double label_value = label && oc.label_interval > 0.0 ? label->value(solver) : 0.0;
       const bool by_label = label_due(label_value);
       if (now >= next_frame - tol || by_label) {
         if (out) {
@@ -284,10 +284,12 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         const auto& r = recorders[k];
         const auto& rc = r.config();
         if (!rc.stop_above && !rc.stop_below) continue;  // evaluated on output rows only
-        const double value = r.value(model.particles);
-        // The way from the start value to each bound that lies ahead of it.
+        const double value = r.value(solver);
+        // The way from the start value to each bound that lies ahead of it. Not for the
+        // unbalanced-force ratio: it has no start value (NaN before the first step) and decays
+        // neither linearly nor monotonically, so the time fraction stands for it.
         for (const auto& [bound, sign] : {std::pair{rc.stop_above, 1.0}, std::pair{rc.stop_below, -1.0}}) {
-          if (!bound || sign * (*bound - recorder_start[k]) <= 0.0) continue;
+          if (!bound || r.whole_model() || sign * (*bound - recorder_start[k]) <= 0.0) continue;
           const double f = std::clamp((value - recorder_start[k]) / (*bound - recorder_start[k]), 0.0, 1.0);
           if (f > progress.fraction)
             progress.fraction = f, progress.leader = rc.name, progress.leader_value = value, progress.leader_bound = *bound;
@@ -337,7 +339,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   }
   if (kc.enabled()) save();
   if (out) {
-    if (solver.time() > last_row) out->global_row(solver.time(), solver.steps(), dt, recorder_row());  // the final state
+    if (solver.time() > last_row) out->global_row(solver.time(), solver.steps(), dt, solver.unbalanced_force_ratio(), recorder_row());  // the final state
     if (solver.time() > last_frame) write_frame(solver.time());
     out->flush_global();
   }

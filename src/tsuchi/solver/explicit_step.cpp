@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <limits>
 #include <type_traits>
 
 namespace tsuchi {
@@ -26,6 +27,7 @@ void ExplicitSolver<D>::step(double dt) {
   }
   time_ += dt;
   ++steps_;
+  stepped_ = true;
 }
 
 template <int D>
@@ -365,6 +367,63 @@ void ExplicitSolver<D>::note_fault(std::int64_t& slot, std::size_t i) {
   const auto idx = static_cast<std::int64_t>(i);
 #pragma omp critical(tsuchi_fault)
   if (slot < 0 || idx < slot) slot = idx;
+}
+
+// The unbalanced-force ratio of FLAC (Itasca, FLAC/FLAC3D manuals, "unbalanced force ratio"): the
+// largest unbalanced force magnitude over the grid points divided by the average applied force
+// magnitude over the grid points,
+//   R = max_i |f_i^unb| / ((1/N) sum_i |f_i^app|),
+// over the N nodes of the latest step's solve with m_i above solver.node_mass_floor, where
+//   f_i^unb = f_i = f_i^ext + f_i^int on the free components (a fixed component is balanced by
+//             its reaction: set to 0), the net nodal force of eq (4) before the local damping
+//             force is added (with Cundall damping f + f_damp is not the out-of-balance force: the
+//             damping force is a numerical device that vanishes with f);
+//   |f_i^app| = (|f_i^ext| + |f_i^int|) / 2, f_i^ext = m_i b (gravity, the only external nodal
+//             load), f_i^int = f_i - m_i b, all components. FLAC's applied force is the sum of the
+//             force magnitudes acting on a grid point halved; here the two are the gravity load
+//             and the stress divergence. At equilibrium |f^int| = |f^ext| and |f^app| is the nodal
+//             weight; with gravity just switched on (f^int = 0) it is half of it and R is of order
+//             1 (about 2 max_i m_i / mean_i m_i); under boundary loading alone (b = 0) it is half
+//             the internal force.
+// For USF the force is that of the step's updated stress, for USL and MUSL that of the stress at
+// the start of the step. R = 0 when no node carries a force (nothing loaded: balanced); NaN before
+// the first step of the process (no solve yet: after a restart, until the next step).
+// The per-tile partial results are combined in tile order (deterministic for every thread count),
+// then across processes through core/reduction.hpp.
+template <int D>
+double ExplicitSolver<D>::unbalanced_force_ratio() const {
+  if (!stepped_) return std::numeric_limits<double>::quiet_NaN();
+  if (ratio_step_ == steps_) return ratio_;
+  const auto& n = m_.grid.field(0);
+  const auto& fixed = m_.grid.fixed_g;
+  const auto& tiles = schedule_.active_tiles();
+  const double floor = m_.step.node_mass_floor;
+  const Vec<D> b = m_.step.gravity;
+  constexpr std::int64_t nodes = Grid<D>::kTileNodes;
+  const auto nt = static_cast<std::int64_t>(tiles.size());
+  tile_sums_.resize(tiles.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t t = 0; t < nt; ++t) {
+    double largest = 0.0, sum = 0.0, count = 0.0;
+    const std::int64_t first = tiles[static_cast<std::size_t>(t)] * nodes;
+    for (std::int64_t k = first; k < first + nodes; ++k) {
+      if (!(n.m[k] > floor)) continue;
+      Vec<D> unbalanced = n.f[k];
+      for (int d = 0; d < D; ++d)
+        if (fixed[k] & (1u << d)) unbalanced[d] = 0.0;
+      const Vec<D> ext = n.m[k] * b;
+      largest = std::max(largest, unbalanced.norm());
+      sum += 0.5 * (ext.norm() + (n.f[k] - ext).norm());
+      count += 1.0;
+    }
+    tile_sums_[static_cast<std::size_t>(t)] = {largest, sum, count};
+  }
+  double largest = 0.0, sum = 0.0, count = 0.0;
+  for (const auto& [l, s, c] : tile_sums_) largest = std::max(largest, l), sum += s, count += c;
+  largest = reduce::max(largest), sum = reduce::sum(sum), count = reduce::sum(count);
+  ratio_ = sum > 0.0 ? largest / (sum / count) : 0.0;
+  ratio_step_ = steps_;
+  return ratio_;
 }
 
 template <int D>

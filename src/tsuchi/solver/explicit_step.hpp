@@ -14,7 +14,9 @@
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/grid/block_schedule.hpp"
 
+#include <array>
 #include <cstdint>
+#include <vector>
 #include <string>
 
 namespace tsuchi {
@@ -35,6 +37,10 @@ class ExplicitSolver {
   std::int64_t steps() const { return steps_; }
   Model<D>& model() { return m_; }
   const Model<D>& model() const { return m_; }
+  // FLAC's unbalanced-force ratio of the grid solve of the latest step (explicit_step.cpp gives
+  // the definition); NaN before the first step. Computed on the first call after a step, by one
+  // pass over the active nodes, which leaves every other result alone.
+  double unbalanced_force_ratio() const;
   // "particle ID of body "NAME" at (x, y)", for messages.
   std::string describe_particle(std::size_t i) const;
 
@@ -75,6 +81,10 @@ class ExplicitSolver {
   std::int64_t escaped_ = -1;   // first particle found outside the grid in this step
   std::int64_t inverted_ = -1;  // first particle whose volume went to zero or below
   std::int64_t nonfinite_ = -1; // first particle with a NaN or Inf stress, velocity or volume
+  bool stepped_ = false;                     // a step ran in this process: the grid holds its solve
+  mutable double ratio_ = 0.0;               // unbalanced_force_ratio() of step ratio_step_
+  mutable std::int64_t ratio_step_ = -1;
+  mutable std::vector<std::array<double, 3>> tile_sums_;  // per active tile: max, sum, count
   std::vector<Voigt<D>> deferred_eps_;  // USF: this step's strain increments, for the domain update
   BlockSchedule<D> schedule_;           // colour-by-colour scatter order, brought up to date every step
   typename Particles<D>::Scratch sort_scratch_;  // storage for the periodic reordering

@@ -249,6 +249,12 @@ void ExplicitSolver<D>::nodal_velocity_and_solve(double dt) {
 // (tensor-product weights reproducing linear functions); it is inverted whole all the same. Where
 // D_dd vanishes (a linear-kernel particle on a grid line along d) B e_d vanishes too and column d
 // of C_p is set to 0. Prescribed components take the prescribed velocity and its gradient.
+// Balance: the grid's angular momentum sum_i x_i × m_i v^L_i equals that of the particles after
+// g2p, sum_p x_p × m_p v_p + m_p eps : B_p^T (x_p moved with v_p), and the next p2g spreads
+// m_p eps : (C_p D_p)^T with D_p at the new position. The two spins agree, and angular momentum is
+// kept to round-off, when D_p does not change as the particle moves: uGIMP with l_p = h/2 (one
+// particle per cell and axis) has D_p = h^2/4 I everywhere; otherwise it drifts by
+// m_p eps : (C_p dD_p)^T (tests/velocity_transfer_test.cpp measures both).
 template <int D>
 template <class Kernel, typename ExplicitSolver<D>::AfterGather Then, VelocityTransfer How>
 void ExplicitSolver<D>::g2p(double dt) {

@@ -58,8 +58,11 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
     fmt::print("body       {:<16} {:>9} particles, material \"{}\"\n", c.bodies[b].name, m.body_particles[b],
                c.bodies[b].material);
   fmt::print("particles  {}\n", m.particles.size());
-  fmt::print("solver     {}, {} shape functions, PIC fraction {}, damping {}\n", to_string(c.solver.scheme),
-             to_string(c.solver.shape), c.solver.pic_fraction, c.solver.damping);
+  fmt::print("solver     {}, {} shape functions, {}, damping {}\n", to_string(c.solver.scheme),
+             to_string(c.solver.shape),
+             c.solver.velocity_transfer == VelocityTransfer::Apic ? std::string("APIC transfer")
+                                                                   : fmt::format("PIC fraction {}", c.solver.pic_fraction),
+             c.solver.damping);
   fmt::print("time step  {:.4g} s ({}; stable limit {:.4g} s)\n", dt,
              c.time.courant ? fmt::format("Courant {}", *c.time.courant) : std::string("fixed"), dt_crit);
   // To the time a recorder will stop the run when that can be foreseen, else to time.end.

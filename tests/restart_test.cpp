@@ -221,6 +221,7 @@ TEST(Checkpoint, RoundTripsEveryParticleArray) {
   for (std::size_t i = 0; i < m.particles.size(); ++i) {
     const double s = static_cast<double>(i);
     m.particles.sigma_p[i] << -1e3 * s, 2.5 * s, 1.0 / (1.0 + s), 1e-7 * s;
+    m.particles.C_p[i] << 0.5 * s, -1.0 / (2.0 + s), 3e-4 * s, -s;  // APIC's affine matrix
     (*m.particles.state_column("plastic_shear_strain"))[i] = 1e-3 * s;
     (*m.particles.state_column("yield_mode"))[i] = static_cast<double>(i % 3);
   }
@@ -248,7 +249,7 @@ TEST(Checkpoint, RoundTripsEveryParticleArray) {
         }
     });
   });
-  EXPECT_EQ(arrays, 17u);
+  EXPECT_EQ(arrays, 18u);
 }
 
 // Faults stop the step with their own kind and name the particle, its body and position.

@@ -20,7 +20,8 @@ namespace tsuchi {
 // 2: the CSV files are named by their length and CRC-32 instead of held whole.
 // 3: particle ids are 64-bit; the material state is saved column by column under the names of the
 //    state fields (p.yield_mode, p.plastic_shear_strain, ...), every column a double.
-inline constexpr std::uint32_t checkpoint_version = 3;
+// 4: the particles' APIC affine matrix, p.C (D x D doubles, zero with the FLIP transfer).
+inline constexpr std::uint32_t checkpoint_version = 4;
 
 // The time loop's own state at the end of a step.
 struct RunProgress {

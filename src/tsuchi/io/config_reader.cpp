@@ -278,6 +278,13 @@ void read_solver(Section& s, Config& c) {
   v.scheme = static_cast<Scheme>(s.choice("scheme", {"usf", "usl", "musl"}, 2));
   v.shape = static_cast<ShapeKind>(s.choice("shape_function", {"linear", "ugimp", "gimp"}, 2));
   v.pic_fraction = s.number("pic_fraction", "a fraction in [0, 1]", [](double x) { return x >= 0 && x <= 1; }, 0.0);
+  v.velocity_transfer = static_cast<VelocityTransfer>(s.choice("velocity_transfer", {"flip", "apic"}, 0));
+  // APIC's particle velocity is the PIC one plus the affine field it carries; a FLIP blend on top
+  // would bring back the noise APIC is there to remove (and its angular momentum balance).
+  if (v.velocity_transfer == VelocityTransfer::Apic && v.pic_fraction > 0.0)
+    s.fail("pic_fraction", fmt::format("expected 0 (or no pic_fraction) with velocity_transfer = \"apic\", got {}: "
+                                       "APIC has no FLIP/PIC blend; use velocity_transfer = \"flip\" for a blend",
+                                       v.pic_fraction));
   v.damping = s.number("damping", "a coefficient in [0, 1)", [](double x) { return x >= 0 && x < 1; }, 0.0);
   v.mass_threshold = s.number("mass_threshold", "a fraction in (0, 1)", [](double x) { return x > 0 && x < 1; }, 1e-9);
   v.sort_interval = s.integer("sort_interval", "a non-negative whole number of steps", [](std::int64_t n) { return n >= 0; },

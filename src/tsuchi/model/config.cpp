@@ -20,4 +20,12 @@ const char* to_string(ShapeKind s) {
   return "?";
 }
 
+const char* to_string(VelocityTransfer t) {
+  switch (t) {
+    case VelocityTransfer::Flip: return "flip";
+    case VelocityTransfer::Apic: return "apic";
+  }
+  return "?";
+}
+
 }  // namespace tsuchi

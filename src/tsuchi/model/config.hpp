@@ -16,6 +16,9 @@ using Triple = std::array<double, 3>;
 enum class Scheme { USF, USL, MUSL };
 enum class ShapeKind { Linear, UGimp, Gimp };
 enum class FaceCondition { Free, Roller, Fixed };
+// How velocities go between particles and grid: FLIP (blended with PIC by pic_fraction) or APIC
+// (Jiang et al. 2015), which carries an affine velocity field per particle.
+enum class VelocityTransfer { Flip, Apic };
 
 struct GridConfig {
   Triple origin{};
@@ -78,6 +81,7 @@ struct SolverConfig {
   Scheme scheme = Scheme::MUSL;
   ShapeKind shape = ShapeKind::Gimp;
   double pic_fraction = 0.0;       // 0 = pure FLIP, 1 = pure PIC
+  VelocityTransfer velocity_transfer = VelocityTransfer::Flip;  // APIC only with pic_fraction = 0
   double damping = 0.0;            // Cundall local damping coefficient alpha, eq (20)
   double mass_threshold = 1e-9;    // nodes lighter than this fraction of the lightest particle are skipped
   // Particles are re-stored in block order every this many steps (0: never), so that neighbours
@@ -160,5 +164,6 @@ struct Config {
 
 const char* to_string(Scheme s);
 const char* to_string(ShapeKind s);
+const char* to_string(VelocityTransfer t);
 
 }  // namespace tsuchi

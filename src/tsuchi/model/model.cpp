@@ -249,10 +249,14 @@ void add_body(const Config& c, int body, Model<D>& m) {
     motion.v0[d] = b.prescribed_velocity[d];
     for (int e = 0; e < D; ++e) motion.grad(d, e) = b.prescribed_gradient[d][e];
   }
-  // A prescribed component starts at its prescribed value.
+  // A prescribed component starts at its prescribed value (with APIC, and its gradient).
+  const bool apic = c.solver.velocity_transfer == VelocityTransfer::Apic;
   for (std::size_t q = start; q < p.size(); ++q)
     for (int d = 0; d < D; ++d)
-      if (motion.prescribed[d]) p.v_p[q][d] = motion.velocity(d, p.x_p[q]);
+      if (motion.prescribed[d]) {
+        p.v_p[q][d] = motion.velocity(d, p.x_p[q]);
+        if (apic) p.C_p[q].row(d) = motion.grad.row(d);
+      }
   m.motion.push_back(motion);
 }
 
@@ -271,6 +275,7 @@ Model<D> build_model(const Config& c) {
   m.step.scheme = c.solver.scheme;
   m.step.kernel = c.solver.shape;
   m.step.pic_fraction = c.solver.pic_fraction;
+  m.step.velocity_transfer = c.solver.velocity_transfer;
   m.step.damping = c.solver.damping;
   for (int d = 0; d < D; ++d) m.step.gravity[d] = c.gravity[d];
   m.step.sort_interval = c.solver.sort_interval;

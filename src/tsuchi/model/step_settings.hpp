@@ -13,6 +13,8 @@ struct StepSettings {
   Scheme scheme = Scheme::MUSL;
   ShapeKind kernel = ShapeKind::Gimp;
   double pic_fraction = 0.0;       // 0 = pure FLIP, 1 = pure PIC
+  // FLIP (blended by pic_fraction) or APIC, which keeps Particles::C_p; APIC has pic_fraction 0.
+  VelocityTransfer velocity_transfer = VelocityTransfer::Flip;
   double damping = 0.0;            // Cundall local damping coefficient alpha, eq (20)
   Vec<D> gravity = Vec<D>::Zero();
   double node_mass_floor = 0.0;    // nodes lighter than this are skipped (kg)

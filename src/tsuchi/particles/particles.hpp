@@ -22,6 +22,9 @@ struct Particles {
   std::vector<Voigt<D>> sigma_p;  // Cauchy stress, tension positive (Pa)
   std::vector<Voigt<D>> sigma0_p; // initial stress subtracted in the internal force, eq (2)
   std::vector<Voigt<D>> eps_p;    // accumulated small strain, eq (10b)
+  // APIC's affine velocity matrix (1/s): the particle carries the velocity field v_p + C_p (x - x_p)
+  // (Jiang et al. 2015). Zero and unused with the FLIP transfer.
+  std::vector<Mat<D>> C_p;
   // Material state: one column per state field of the registered constitutive models, named and
   // given its initial value by set_state_columns() (the model builder passes the registry,
   // material_state_fields()). A material updates only the columns of its own fields.
@@ -56,7 +59,7 @@ struct Particles {
   template <class F>
   void for_each_array(F&& f) {
     f("x", x_p), f("u", u_p), f("v", v_p), f("l", l_p), f("m", m_p), f("V", V_p), f("sigma", sigma_p);
-    f("sigma0", sigma0_p), f("eps", eps_p);
+    f("sigma0", sigma0_p), f("eps", eps_p), f("C", C_p);
     for (std::size_t k = 0; k < state.size(); ++k) f(state_name[k].c_str(), state[k]);
     f("material", material_p), f("body", body_p), f("id", id_p);
   }
@@ -102,7 +105,7 @@ struct Particles {
   }
 
   static constexpr std::size_t bytes_per_particle(std::size_t state_columns) {
-    return 4 * sizeof(Vec<D>) + (2 + state_columns) * sizeof(double) + 3 * sizeof(Voigt<D>) +
+    return 4 * sizeof(Vec<D>) + sizeof(Mat<D>) + (2 + state_columns) * sizeof(double) + 3 * sizeof(Voigt<D>) +
            2 * sizeof(std::int32_t) + sizeof(std::int64_t);
   }
   std::size_t bytes_per_particle() const { return bytes_per_particle(state.size()); }

@@ -15,6 +15,11 @@
 // reach beyond the two nodes of the particle's cell, on either side along an axis; the block
 // colouring of the scatter derives from them, grid/block_schedule.hpp) and weights() (gimp.hpp).
 //
+// A stage that needs where the nodes are relative to the particle (APIC's affine transfer) calls
+// compute_offsets() after compute() and gives its functions one more parameter: the row function
+// then also gets the row's offsets along the other axes, ry[r] (x_i - x_p along y, z), and the
+// node function the node's offset along x, rx[a]. Stages that do not ask pay nothing.
+//
 // Nodes of the stencil that fall outside the grid get weight 0 and a clamped (valid) index, so
 // scatter and gather loops run without a branch; the dropped weight is the grid edge, where a
 // boundary condition holds anyway.
@@ -24,6 +29,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <type_traits>
 
 namespace tsuchi {
 
@@ -44,12 +50,18 @@ struct Stencil {
   std::array<double, R> T;
   std::array<std::array<double, D - 1>, R> dT;
   std::array<std::int64_t, R> row;  // index term of each row
+  // compute_offsets(): x_i - x_p along x for node a, and along the other axes for row r (m).
+  std::array<double, K> rx;
+  std::array<std::array<double, D - 1>, R> ry;
+  Eigen::Array<int, D, 1> node0;  // first node index per axis, unclamped
+  Eigen::Array<double, D, 1> xi;  // (x_p - origin) / h
 
   [[gnu::always_inline]] inline void compute(const Grid<D>& grid, const Vec<D>& x, const Vec<D>& lp) {
     using Axes = Eigen::Array<double, D, 1>;
     std::array<Axes, K> wa, dwa;
-    const Eigen::Array<int, D, 1> i0 =
-        Kernel::template weights<D>((x - grid.origin).array() * grid.inv_h, grid.inv_h, lp.array(), wa, dwa);
+    xi = (x - grid.origin).array() * grid.inv_h;
+    const Eigen::Array<int, D, 1> i0 = Kernel::template weights<D>(xi, grid.inv_h, lp.array(), wa, dwa);
+    node0 = i0;
     std::array<std::array<double, K>, D> w, dw;
     std::array<std::array<std::int64_t, K>, D> off;
     for (int d = 0; d < D; ++d) {
@@ -80,6 +92,21 @@ struct Stencil {
     }
   }
 
+  // The nodes' offsets from the particle, x_i - x_p = h (i - xi), for the functions that take them.
+  // Off the grid's edge the weight is 0, so whatever offset such a node has does not count.
+  [[gnu::always_inline]] inline void compute_offsets(double h) {
+    std::array<std::array<double, K>, D> o;
+    for (int d = 0; d < D; ++d)
+      for (int k = 0; k < K; ++k) o[d][k] = h * (static_cast<double>(node0[d] + k) - xi[d]);
+    rx = o[0];
+    if constexpr (D == 2) {
+      for (int b = 0; b < K; ++b) ry[b][0] = o[1][b];
+    } else {
+      for (int c = 0; c < K; ++c)
+        for (int b = 0; b < K; ++b) ry[b + K * c] = {o[1][b], o[2][c]};
+    }
+  }
+
   // Scatter: for each row r in turn, along = row_fn(T[r], dT[r]) is what the row spreads (formed
   // once per row), then node_fn(k, wx[a], dwx[a], along) for the row's nodes a = 0 .. K-1, k the
   // node's index. Node (a, r) thus gets S = wx[a] T[r], G_x = dwx[a] T[r], G_d = wx[a] dT[r][d-1]
@@ -87,8 +114,19 @@ struct Stencil {
   template <class RowFn, class NodeFn>
   [[gnu::always_inline]] inline void scatter(RowFn&& row_fn, NodeFn&& node_fn) const {
     for (int r = 0; r < R; ++r) {
-      const auto along = row_fn(T[r], dT[r]);
-      for (int a = 0; a < K; ++a) node_fn(offx[a] + row[r], wx[a], dwx[a], along);
+      const auto along = [&] {
+        if constexpr (std::is_invocable_v<RowFn&, double, const std::array<double, D - 1>&,
+                                          const std::array<double, D - 1>&>)
+          return row_fn(T[r], dT[r], ry[r]);
+        else
+          return row_fn(T[r], dT[r]);
+      }();
+      for (int a = 0; a < K; ++a) {
+        if constexpr (std::is_invocable_v<NodeFn&, std::int64_t, double, double, decltype(along), double>)
+          node_fn(offx[a] + row[r], wx[a], dwx[a], along, rx[a]);
+        else
+          node_fn(offx[a] + row[r], wx[a], dwx[a], along);
+      }
     }
   }
 
@@ -98,8 +136,17 @@ struct Stencil {
   [[gnu::always_inline]] inline void gather(const Sums& zero, NodeFn&& node_fn, RowFn&& row_fn) const {
     for (int r = 0; r < R; ++r) {
       Sums sums = zero;
-      for (int a = 0; a < K; ++a) node_fn(sums, offx[a] + row[r], wx[a], dwx[a]);
-      row_fn(static_cast<const Sums&>(sums), T[r], dT[r]);
+      for (int a = 0; a < K; ++a) {
+        if constexpr (std::is_invocable_v<NodeFn&, Sums&, std::int64_t, double, double, double>)
+          node_fn(sums, offx[a] + row[r], wx[a], dwx[a], rx[a]);
+        else
+          node_fn(sums, offx[a] + row[r], wx[a], dwx[a]);
+      }
+      if constexpr (std::is_invocable_v<RowFn&, const Sums&, double, const std::array<double, D - 1>&,
+                                        const std::array<double, D - 1>&>)
+        row_fn(static_cast<const Sums&>(sums), T[r], dT[r], ry[r]);
+      else
+        row_fn(static_cast<const Sums&>(sums), T[r], dT[r]);
     }
   }
 

@@ -33,6 +33,15 @@ void ExplicitSolver<D>::step(double dt) {
 template <int D>
 template <class Kernel>
 void ExplicitSolver<D>::step_with(double dt) {
+  switch (m_.step.velocity_transfer) {
+    case Transfer::Flip: step_with<Kernel, Transfer::Flip>(dt); break;
+    case Transfer::Apic: step_with<Kernel, Transfer::Apic>(dt); break;
+  }
+}
+
+template <int D>
+template <class Kernel, VelocityTransfer How>
+void ExplicitSolver<D>::step_with(double dt) {
   auto& g = m_.grid;
   // Blocks coloured for the kernel's reach; every stage below uses the start-of-step positions.
   constexpr auto reach = BlockSchedule<D>::template reach_of<Kernel>();
@@ -50,24 +59,24 @@ void ExplicitSolver<D>::step_with(double dt) {
     case Scheme::USF:
       // The GIMP domain update waits until the end of the step: the later stages must use the
       // same weights as the mass p2g, or momentum is not conserved.
-      p2g<Kernel, Scatter::MassMomentum>();
+      p2g<Kernel, Scatter::MassMomentum, How>();
       nodal_velocity();
       update_stress<Kernel, AfterStress::DeferDomain>(dt, field.v);
-      p2g<Kernel, Scatter::Force>();
+      p2g<Kernel, Scatter::Force, How>();
       solve_grid(dt);
-      g2p<Kernel, AfterGather::Move>(dt);
+      g2p<Kernel, AfterGather::Move, How>(dt);
       apply_deferred_domain_update();
       break;
     case Scheme::USL:
-      p2g<Kernel, Scatter::All>();
+      p2g<Kernel, Scatter::All, How>();
       nodal_velocity_and_solve<Momentum::Keep>(dt);
-      g2p<Kernel, AfterGather::None>(dt);
+      g2p<Kernel, AfterGather::None, How>(dt);
       update_stress<Kernel, AfterStress::Move>(dt, field.vL);
       break;
     case Scheme::MUSL:
-      p2g<Kernel, Scatter::All>();
+      p2g<Kernel, Scatter::All, How>();
       nodal_velocity_and_solve<Momentum::Clear>(dt);
-      g2p<Kernel, AfterGather::Remap>(dt);
+      g2p<Kernel, AfterGather::Remap, How>(dt);
       nodal_velocity();
       update_stress<Kernel, AfterStress::Move>(dt, field.v);
       break;
@@ -90,10 +99,15 @@ void zero_nodal(const BlockSchedule<D>& schedule, Arrays&... a) {
 // f_ext = sum S m_p b.
 // What it scatters is a compile-time choice: the node loop is the hottest loop of the step and
 // should carry no test that is the same for every node.
+// With APIC the momentum is that of the particle's affine velocity field (Jiang et al. 2015, P2G
+// for a general w_ip):  m_i v_i = sum_p w_ip m_p (v_p + C_p (x_i - x_p)). With partition of unity
+// and sum_i w_ip (x_i - x_p) = 0 the affine term adds no linear momentum; it adds the particle's
+// spin m_p eps : (C_p D_p)^T to the angular momentum (D_p below, at g2p).
 template <int D>
-template <class Kernel, typename ExplicitSolver<D>::Scatter What>
+template <class Kernel, typename ExplicitSolver<D>::Scatter What, VelocityTransfer How>
 void ExplicitSolver<D>::p2g() {
   constexpr bool mass_momentum = What != Scatter::Force, force = What != Scatter::MassMomentum;
+  constexpr bool affine = How == Transfer::Apic && mass_momentum;
   auto& g = m_.grid;
   auto& n = nodes();
   const auto& p = m_.particles;
@@ -122,20 +136,45 @@ void ExplicitSolver<D>::p2g() {
     const Mat<D> minus_V_stress = -p.V_p[i] * s.template topLeftCorner<D, D>();
     const Vec<D> mv = m * p.v_p[i];
     const Vec<D> mb = m * b;
-    st.scatter(
-        [&](double T, const std::array<double, D - 1>& dT) {
-          Row row{T * m, T * mv, T * mb, {}};
-          for (int d = 1; d < D; ++d) row.f_w += dT[d - 1] * minus_V_stress.col(d);
-          row.f_dw = T * minus_V_stress.col(0);
-          return row;
-        },
-        [&](std::int64_t k, double w, double dw, const Row& row) {
-          if constexpr (mass_momentum) {
-            m_g[k] += w * row.m;
-            p_g[k] += w * row.mv;
-          }
-          if constexpr (force) f_g[k] += w * row.f_w + dw * row.f_dw;
-        });
+    if constexpr (!affine) {
+      st.scatter(
+          [&](double T, const std::array<double, D - 1>& dT) {
+            Row row{T * m, T * mv, T * mb, {}};
+            for (int d = 1; d < D; ++d) row.f_w += dT[d - 1] * minus_V_stress.col(d);
+            row.f_dw = T * minus_V_stress.col(0);
+            return row;
+          },
+          [&](std::int64_t k, double w, double dw, const Row& row) {
+            if constexpr (mass_momentum) {
+              m_g[k] += w * row.m;
+              p_g[k] += w * row.mv;
+            }
+            if constexpr (force) f_g[k] += w * row.f_w + dw * row.f_dw;
+          });
+    } else {
+      // Node (a, r) at x_i - x_p = (rx[a], ry[r]): m (v + C (x_i - x_p)) = row.mv / T + rx[a] m C e_x,
+      // with row.mv = T m (v + sum_{d>0} C e_d ry_d) formed once per row.
+      struct AffineRow {
+        Row base;
+        Vec<D> mC_x;  // T m C e_x
+      };
+      const Mat<D> mC = m * p.C_p[i];
+      st.compute_offsets(g.h);
+      st.scatter(
+          [&](double T, const std::array<double, D - 1>& dT, const std::array<double, D - 1>& ry) {
+            Vec<D> mv_row = mv;
+            for (int d = 1; d < D; ++d) mv_row += ry[d - 1] * mC.col(d);
+            AffineRow row{{T * m, T * mv_row, T * mb, {}}, T * mC.col(0)};
+            for (int d = 1; d < D; ++d) row.base.f_w += dT[d - 1] * minus_V_stress.col(d);
+            row.base.f_dw = T * minus_V_stress.col(0);
+            return row;
+          },
+          [&](std::int64_t k, double w, double dw, const AffineRow& row, double rx) {
+            m_g[k] += w * row.base.m;
+            p_g[k] += w * row.base.mv + (w * rx) * row.mC_x;
+            if constexpr (force) f_g[k] += w * row.base.f_w + dw * row.base.f_dw;
+          });
+    }
   });
 }
 
@@ -200,9 +239,34 @@ void ExplicitSolver<D>::nodal_velocity_and_solve(double dt) {
 // Prescribed components are then set (their acceleration is zero). With AfterGather::Remap the
 // updated particle momenta are projected back to the grid, eq (9) (MUSL), into a p_g cleared by
 // nodal_velocity_and_solve<Momentum::Clear>(). With AfterGather::Move, eqs (5)-(6).
+//
+// With APIC (Jiang et al. 2015, G2P for a general w_ip) the particle takes the PIC velocity and
+// the affine matrix fitted to the updated nodal velocities around it:
+//   v_p = sum_i w_ip v^L_i,   B_p = sum_i w_ip v^L_i (x_i - x_p)^T,
+//   D_p = sum_i w_ip (x_i - x_p)(x_i - x_p)^T,   C_p = B_p D_p^{-1}.
+// D_p is summed from this particle's stencil weights and node offsets, not taken from a closed
+// form: for the linear and GIMP kernels it depends on where the particle sits in its cell (for
+// linear hats D_dd = (x_p - x_0)(x_1 - x_p) along each axis), unlike the quadratic and cubic
+// B-splines of the paper (h^2/4 I, h^2/3 I). Inside the grid it is diagonal up to round-off
+// (tensor-product weights reproducing linear functions); it is inverted whole all the same. Where
+// D_dd vanishes (a linear-kernel particle on a grid line along d) B e_d vanishes too and column d
+// of C_p is set to 0. Prescribed components take the prescribed velocity and its gradient.
+// Balance: the grid's angular momentum sum_i x_i × m_i v^L_i equals that of the particles after
+// g2p, sum_p x_p × m_p v_p + m_p eps : B_p^T (x_p moved with v_p), and the next p2g spreads
+// m_p eps : (C_p D_p)^T with D_p at the new position. The two spins agree, and angular momentum is
+// kept to round-off, when D_p does not change as the particle moves: uGIMP with l_p = h/2 (one
+// particle per cell and axis) has D_p = h^2/4 I everywhere; otherwise it drifts by
+// m_p eps : (C_p dD_p)^T (tests/velocity_transfer_test.cpp measures both).
+template <int D>
+template <class Kernel, typename ExplicitSolver<D>::AfterGather Then, VelocityTransfer How>
+void ExplicitSolver<D>::g2p(double dt) {
+  if constexpr (How == Transfer::Apic) g2p_affine<Kernel, Then>(dt);
+  else g2p_flip<Kernel, Then>(dt);
+}
+
 template <int D>
 template <class Kernel, typename ExplicitSolver<D>::AfterGather Then>
-void ExplicitSolver<D>::g2p(double dt) {
+void ExplicitSolver<D>::g2p_flip(double dt) {
   auto& g = m_.grid;
   auto& n = nodes();
   auto& p = m_.particles;
@@ -237,6 +301,92 @@ void ExplicitSolver<D>::g2p(double dt) {
       const Vec<D> mv = p.m_p[i] * v;
       st.scatter([&](double T, const std::array<double, D - 1>&) -> Vec<D> { return T * mv; },
                  [&](std::int64_t k, double w, double, const Vec<D>& Tmv) { p_g[k] += w * Tmv; });
+    }
+    if constexpr (Then == AfterGather::Move) move_particle(i, dt, vL);
+  };
+  if constexpr (Then == AfterGather::Remap) {
+    schedule_.scatter(particle);  // the remap writes nodes
+  } else {
+    const auto np = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < np; ++i) particle(static_cast<std::size_t>(i));
+  }
+}
+
+// g2p with the APIC transfer (above): v_p, C_p from v^L; the remap projects the momentum of the
+// particle's affine field, as p2g does; the particle moves with v^L interpolated, as with FLIP.
+template <int D>
+template <class Kernel, typename ExplicitSolver<D>::AfterGather Then>
+void ExplicitSolver<D>::g2p_affine(double dt) {
+  auto& g = m_.grid;
+  auto& n = nodes();
+  auto& p = m_.particles;
+  const double h = g.h, tiny = 1e-12 * g.h * g.h;
+  // Sums along x of w v^L, w rx v^L, w, w rx, w rx^2; the row factors T, ry then give v_p, B_p, D_p.
+  struct Sums {
+    Vec<D> v, v_rx;
+    double w, w_rx, w_rx2;
+  };
+  const Sums zero{Vec<D>::Zero(), Vec<D>::Zero(), 0.0, 0.0, 0.0};
+  const auto particle = [&](std::size_t i) {
+    const Vec<D>* const vL_g = n.vL.data();  // local addresses: see p2g
+    Vec<D>* const p_g = n.p.data();
+    Stencil<D, Kernel> st;
+    st.compute(g, p.x_p[i], p.l_p[i]);
+    st.compute_offsets(h);
+    Vec<D> vL = Vec<D>::Zero();
+    Mat<D> B = Mat<D>::Zero(), Dp = Mat<D>::Zero();
+    st.gather(
+        zero,
+        [&](Sums& row, std::int64_t k, double w, double, double rx) {
+          const double wrx = w * rx;
+          row.v += w * vL_g[k];
+          row.v_rx += wrx * vL_g[k];
+          row.w += w;
+          row.w_rx += wrx;
+          row.w_rx2 += wrx * rx;
+        },
+        [&](const Sums& row, double T, const std::array<double, D - 1>&, const std::array<double, D - 1>& ry) {
+          vL += T * row.v;
+          B.col(0) += T * row.v_rx;
+          Dp(0, 0) += T * row.w_rx2;
+          for (int d = 1; d < D; ++d) {
+            const double Ty = T * ry[d - 1];
+            B.col(d) += Ty * row.v;
+            Dp(0, d) += Ty * row.w_rx;
+            for (int e = 1; e < D; ++e) Dp(d, e) += Ty * ry[e - 1] * row.w;
+          }
+        });
+    for (int d = 1; d < D; ++d) Dp(d, 0) = Dp(0, d);
+    Mat<D> C;
+    if (Dp.diagonal().minCoeff() > tiny) {
+      C = B * Dp.inverse();
+    } else {
+      C = Mat<D>::Zero();
+      for (int d = 0; d < D; ++d)
+        if (Dp(d, d) > tiny) C.col(d) = B.col(d) / Dp(d, d);
+    }
+    Vec<D> v = vL;
+    impose_motion(i, v, C);
+    if (!v.allFinite() || !C.allFinite()) note_fault(nonfinite_, i);
+    p.v_p[i] = v;
+    p.C_p[i] = C;
+    if constexpr (Then == AfterGather::Remap) {
+      const double m = p.m_p[i];
+      const Vec<D> mv = m * v;
+      const Mat<D> mC = m * C;
+      struct AffineRow {
+        Vec<D> mv, mC_x;  // T m (v + sum_{d>0} C e_d ry_d), T m C e_x
+      };
+      st.scatter(
+          [&](double T, const std::array<double, D - 1>&, const std::array<double, D - 1>& ry) {
+            Vec<D> mv_row = mv;
+            for (int d = 1; d < D; ++d) mv_row += ry[d - 1] * mC.col(d);
+            return AffineRow{T * mv_row, T * mC.col(0)};
+          },
+          [&](std::int64_t k, double w, double, const AffineRow& row, double rx) {
+            p_g[k] += w * row.mv + (w * rx) * row.mC_x;
+          });
     }
     if constexpr (Then == AfterGather::Move) move_particle(i, dt, vL);
   };
@@ -334,6 +484,19 @@ inline void ExplicitSolver<D>::impose_motion(std::size_t i, Vec<D>& v) const {
   if (!motion.any) return;
   for (int d = 0; d < D; ++d)
     if (motion.prescribed[d]) v[d] = motion.velocity(d, m_.particles.x_p[i]);
+}
+
+// The same for APIC's affine matrix: a prescribed component v_d = v0_d + grad_d . x has the
+// gradient grad_d as row d of C_p.
+template <int D>
+inline void ExplicitSolver<D>::impose_motion(std::size_t i, Vec<D>& v, Mat<D>& C) const {
+  const auto& motion = m_.motion[m_.particles.body_p[i]];
+  if (!motion.any) return;
+  for (int d = 0; d < D; ++d)
+    if (motion.prescribed[d]) {
+      v[d] = motion.velocity(d, m_.particles.x_p[i]);
+      C.row(d) = motion.grad.row(d);
+    }
 }
 
 // Eqs (5)-(6) with the interpolated v^L; a prescribed component moves the particle at exactly the

@@ -10,6 +10,10 @@
 // passes (p2g of mass, momentum and force at once, g2p with the remap, the stress update moving
 // the particles) save a sweep over the particles or the nodes.
 //
+// The velocity transfer is a named compile-time choice of p2g and g2p as well (VelocityTransfer,
+// model/config.hpp): FLIP, blended with PIC by pic_fraction, or APIC (Jiang et al. 2015), where each
+// particle carries the affine velocity field v_p + C_p (x - x_p).
+//
 // The stages work on nodal field 0 of the grid (nodes()), the only one today.
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/grid/block_schedule.hpp"
@@ -58,18 +62,23 @@ class ExplicitSolver {
   // (USF, whose later stages need the step's weights).
   enum class AfterStress { DeferDomain, Move };
 
+  using Transfer = VelocityTransfer;
   template <class Kernel> void step_with(double dt);
+  template <class Kernel, Transfer How> void step_with(double dt);
   NodalField<D>& nodes() { return m_.grid.field(0); }
-  template <class Kernel, Scatter What> void p2g();
+  template <class Kernel, Scatter What, Transfer How> void p2g();
   Vec<D> velocity_at(const NodalField<D>& n, std::int64_t k) const;
   Vec<D> acceleration_at(const NodalField<D>& n, std::int64_t k, const Vec<D>& v) const;
   void nodal_velocity();
   void solve_grid(double dt);
   template <Momentum Then> void nodal_velocity_and_solve(double dt);
-  template <class Kernel, AfterGather Then> void g2p(double dt);
+  template <class Kernel, AfterGather Then, Transfer How> void g2p(double dt);
+  template <class Kernel, AfterGather Then> void g2p_flip(double dt);
+  template <class Kernel, AfterGather Then> void g2p_affine(double dt);
   template <class Kernel, AfterStress Then> void update_stress(double dt, const std::vector<Vec<D>>& v_strain);
   // Inlined: both run for every particle in the innermost stages.
   [[gnu::always_inline]] inline void impose_motion(std::size_t i, Vec<D>& v) const;
+  [[gnu::always_inline]] inline void impose_motion(std::size_t i, Vec<D>& v, Mat<D>& C) const;
   [[gnu::always_inline]] inline void move_particle(std::size_t i, double dt, Vec<D> vL);
   void apply_deferred_domain_update();
   void report_faults() const;

@@ -214,10 +214,14 @@ TEST_F(RefusedRestart, AllowedChangesAreAccepted) {
   EXPECT_EQ(r.status, exit_code::ok) << r.output;
 }
 
-// The decoder itself: a checkpoint round-trips every particle array exactly.
+// The decoder itself: a checkpoint round-trips every particle array exactly (with APIC, so that
+// the affine matrix p.C is among them).
 TEST(Checkpoint, RoundTripsEveryParticleArray) {
   TempDir tmp("tsuchi_checkpoint");
-  Model<2> m = build_model<2>(read_config_string(elastic_input, "column.toml"));
+  std::string input = elastic_input;
+  input.replace(input.find("[solver]\n"), 9, "[solver]\nvelocity_transfer = \"apic\"\n");
+  Model<2> m = build_model<2>(read_config_string(input, "column.toml"));
+  ASSERT_EQ(m.particles.C_p.size(), m.particles.size());
   for (std::size_t i = 0; i < m.particles.size(); ++i) {
     const double s = static_cast<double>(i);
     m.particles.sigma_p[i] << -1e3 * s, 2.5 * s, 1.0 / (1.0 + s), 1e-7 * s;
@@ -231,7 +235,7 @@ TEST(Checkpoint, RoundTripsEveryParticleArray) {
   r.output.global_bytes = 1234567;
   r.output.global_crc = 0x89abcdefu;
   write_checkpoint<2>((tmp.path / "c.tsuchi").string(), m, r);
-  Model<2> fresh = build_model<2>(read_config_string(elastic_input, "column.toml"));
+  Model<2> fresh = build_model<2>(read_config_string(input, "column.toml"));
   const RunProgress back = read_checkpoint<2>((tmp.path / "c.tsuchi").string(), fresh);
   EXPECT_EQ(back.time, r.time);
   EXPECT_EQ(back.steps, r.steps);

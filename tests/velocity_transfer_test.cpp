@@ -107,13 +107,14 @@ struct Momenta {
 
 // Linear momentum and angular momentum about the origin: sum m x × v plus APIC's particle spin
 // m eps : (C D)^T, i.e. m ((C D)_yx - (C D)_xy) in 2D: what the next p2g puts on the grid,
-// sum_i x_i × m_i v_i (zero for FLIP and PIC, whose C is 0).
+// sum_i x_i × m_i v_i (FLIP and PIC carry no C).
 Momenta momenta(const Model<2>& m) {
   const auto& p = m.particles;
   Momenta r{Vec<2>::Zero(), 0.0};
   for (std::size_t i = 0; i < p.size(); ++i) {
     r.P += p.m_p[i] * p.v_p[i];
     r.L += p.m_p[i] * (p.x_p[i][0] * p.v_p[i][1] - p.x_p[i][1] * p.v_p[i][0]);
+    if (!p.affine) continue;
     const Mat<2> CD = p.C_p[i] * inertia_D(m, i);
     r.L += p.m_p[i] * (CD(1, 0) - CD(0, 1));
   }
@@ -203,7 +204,7 @@ void rigid_round_trip(const std::string& transfer, double pic_fraction, double& 
   for (std::size_t i = 0; i < p.size(); ++i) {
     const Vec<D> exact = U + W * x0[i];
     worst_v = std::max(worst_v, (p.v_p[i] - exact).norm() / exact.norm());
-    worst_C = std::max(worst_C, (p.C_p[i] - W).norm() / W.norm());
+    if (p.affine) worst_C = std::max(worst_C, (p.C_p[i] - W).norm() / W.norm());
   }
   std::printf("  %dD %-4s %-4s pic_fraction %.0f: %zu particles, max |v - v_rigid|/|v_rigid| = %.3e, "
               "max |C - W|/|W| = %.3e\n",

@@ -268,6 +268,7 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
   // A copy: clang before 16 cannot capture a structured binding in a lambda.
   const auto particle_count = static_cast<std::size_t>(count);
   declare_state_columns(p);
+  p.affine = model.particles.affine;  // p.C is in the file exactly when the input asks for APIC
   p.for_each_array([&](const char* name, auto& a) { in.array(fmt::format("p.{}", name), a, particle_count); });
   check_particles(p, model, in);
   r.output.global_bytes = in.scalar<std::uint64_t>("global_csv_bytes");

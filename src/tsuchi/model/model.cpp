@@ -170,7 +170,8 @@ template <int D>
 void check_memory(const Config& c, const Grid<D>& g) {
   double particles = 0.0;
   for (const auto& b : c.bodies) particles += lattice<D>(b, g).total;
-  const double bytes = memory_estimate<D>(static_cast<double>(g.size()), particles);
+  const bool affine = c.solver.velocity_transfer == VelocityTransfer::Apic;
+  const double bytes = memory_estimate<D>(static_cast<double>(g.size()), particles, affine);
   const double avail = available_memory();
   if (avail > 0.0 && bytes > avail)
     throw InputError(fmt::format(
@@ -280,6 +281,7 @@ Model<D> build_model(const Config& c) {
   for (int d = 0; d < D; ++d) m.step.gravity[d] = c.gravity[d];
   m.step.sort_interval = c.solver.sort_interval;
   declare_state_columns(m.particles);
+  m.particles.affine = c.solver.velocity_transfer == VelocityTransfer::Apic;
   for (int d = 0; d < D; ++d) {
     m.grid.origin[d] = c.grid.origin[d];
     m.grid.n_nodes[d] = c.grid.cells[d] + 1;

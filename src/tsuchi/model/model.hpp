@@ -44,8 +44,9 @@ struct Model {
 // (Model::bytes) plus the block schedule and reordering scratch (peak RSS measured at 1.19 times
 // the model for 1e6 particles, BENCHMARKS.md), plus 32 MB for the program.
 template <int D>
-double memory_estimate(double grid_slots, double particles) {
-  const double per_particle = static_cast<double>(Particles<D>::bytes_per_particle(material_state_fields().size()));
+double memory_estimate(double grid_slots, double particles, bool affine) {
+  const double per_particle =
+      static_cast<double>(Particles<D>::bytes_per_particle(material_state_fields().size(), affine));
   const double model = grid_slots * Grid<D>::bytes_per_slot() + particles * per_particle;
   return 1.25 * model + 32e6;
 }

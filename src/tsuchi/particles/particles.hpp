@@ -23,8 +23,10 @@ struct Particles {
   std::vector<Voigt<D>> sigma0_p; // initial stress subtracted in the internal force, eq (2)
   std::vector<Voigt<D>> eps_p;    // accumulated small strain, eq (10b)
   // APIC's affine velocity matrix (1/s): the particle carries the velocity field v_p + C_p (x - x_p)
-  // (Jiang et al. 2015). Zero and unused with the FLIP transfer.
+  // (Jiang et al. 2015). Held only when `affine` is set (the APIC transfer): FLIP models do not pay
+  // its D*D doubles per particle, nor carry it through resizing, reordering and checkpoints.
   std::vector<Mat<D>> C_p;
+  bool affine = false;
   // Material state: one column per state field of the registered constitutive models, named and
   // given its initial value by set_state_columns() (the model builder passes the registry,
   // material_state_fields()). A material updates only the columns of its own fields.
@@ -59,7 +61,8 @@ struct Particles {
   template <class F>
   void for_each_array(F&& f) {
     f("x", x_p), f("u", u_p), f("v", v_p), f("l", l_p), f("m", m_p), f("V", V_p), f("sigma", sigma_p);
-    f("sigma0", sigma0_p), f("eps", eps_p), f("C", C_p);
+    f("sigma0", sigma0_p), f("eps", eps_p);
+    if (affine) f("C", C_p);
     for (std::size_t k = 0; k < state.size(); ++k) f(state_name[k].c_str(), state[k]);
     f("material", material_p), f("body", body_p), f("id", id_p);
   }
@@ -104,11 +107,11 @@ struct Particles {
     permute(order, scratch);
   }
 
-  static constexpr std::size_t bytes_per_particle(std::size_t state_columns) {
-    return 4 * sizeof(Vec<D>) + sizeof(Mat<D>) + (2 + state_columns) * sizeof(double) + 3 * sizeof(Voigt<D>) +
-           2 * sizeof(std::int32_t) + sizeof(std::int64_t);
+  static constexpr std::size_t bytes_per_particle(std::size_t state_columns, bool with_affine) {
+    return 4 * sizeof(Vec<D>) + (with_affine ? sizeof(Mat<D>) : 0) + (2 + state_columns) * sizeof(double) +
+           3 * sizeof(Voigt<D>) + 2 * sizeof(std::int32_t) + sizeof(std::int64_t);
   }
-  std::size_t bytes_per_particle() const { return bytes_per_particle(state.size()); }
+  std::size_t bytes_per_particle() const { return bytes_per_particle(state.size(), affine); }
 };
 
 }  // namespace tsuchi

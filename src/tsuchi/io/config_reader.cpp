@@ -285,6 +285,8 @@ void read_solver(Section& s, Config& c) {
     s.fail("pic_fraction", fmt::format("expected 0 (or no pic_fraction) with velocity_transfer = \"apic\", got {}: "
                                        "APIC has no FLIP/PIC blend; use velocity_transfer = \"flip\" for a blend",
                                        v.pic_fraction));
+  v.anti_locking = static_cast<AntiLocking>(s.choice("anti_locking", {"none", "cell", "node"}, 2));
+  v.hold_released_volume = s.boolean("hold_released_volume", true);
   v.damping = s.number("damping", "a coefficient in [0, 1)", [](double x) { return x >= 0 && x < 1; }, 0.0);
   v.mass_threshold = s.number("mass_threshold", "a fraction in (0, 1)", [](double x) { return x > 0 && x < 1; }, 1e-9);
   v.sort_interval = s.integer("sort_interval", "a non-negative whole number of steps", [](std::int64_t n) { return n >= 0; },
@@ -426,16 +428,33 @@ void read_recorder(Section& s, Config& c) {
   else s.get("min");
   if (s.has("max")) r.max = s.vector("max", dim, "m (initial positions)", any);
   else s.get("max");
-  r.quantity = s.string("quantity", "a particle quantity, or unbalanced_force_ratio");
-  if (r.whole_model()) {
+  r.quantity = s.string("quantity", "a particle quantity, unbalanced_force_ratio or reaction_x/y/z");
+  if (const int axis = r.reaction_axis(); axis >= 0) {
+    // The force holding one prescribed-motion body: the body's total, no subset to choose or reduce.
+    if (axis >= dim)
+      s.fail("quantity", fmt::format("recorder \"{}\": \"{}\" has no axis in a {}D model", r.name, r.quantity, dim));
+    if (r.body < 0)
+      s.fail("quantity", fmt::format("recorder \"{}\": quantity \"{}\" is the force on one body; add body = \"NAME\" "
+                                     "naming a body with prescribed_velocity", r.name, r.quantity));
+    const BodyConfig& b = c.bodies[static_cast<std::size_t>(r.body)];
+    if (!b.prescribed[static_cast<std::size_t>(axis)])
+      s.fail("quantity", fmt::format("recorder \"{}\": body \"{}\" has no prescribed_velocity.{}, so nothing holds it "
+                                     "along {} and its reaction is 0; expected a prescribed component",
+                                     r.name, b.name, "xyz"[axis], "xyz"[axis]));
+    for (const char* key : {"min", "max", "reduction"})
+      if (s.has(key))
+        s.fail(key, fmt::format("recorder \"{}\": quantity \"{}\" is the force on the whole body; it takes no '{}' "
+                                "(remove it)", r.name, r.quantity, key));
+  } else if (r.whole_model()) {
     // One number for the whole model: no particle set to choose or reduce.
     for (const char* key : {"body", "min", "max", "reduction"})
       if (s.has(key))
         s.fail(key, fmt::format("recorder \"{}\": quantity \"{}\" is a whole-model number; it takes no '{}' (remove it)",
                                 r.name, r.quantity, key));
   } else if (!find_recorder_quantity(r.quantity, dim)) {
-    s.fail("quantity", fmt::format("expected one of {} or \"{}\", got \"{}\"", quoted_list(recorder_quantities(dim)),
-                                   kUnbalancedForceRatio, r.quantity));
+    s.fail("quantity", fmt::format("expected one of {}, \"{}\" or reaction_x/y{}, got \"{}\"",
+                                   quoted_list(recorder_quantities(dim)), kUnbalancedForceRatio, dim == 3 ? "/z" : "",
+                                   r.quantity));
   }
   r.reduction = static_cast<RecorderConfig::Reduction>(s.choice("reduction", {"mean", "sum", "min", "max"}, 0));
   r.scale = s.number("scale", "a finite factor", any, 1.0);
@@ -470,6 +489,11 @@ Config read_document(const toml::table& root, const std::string& file) {
   const auto mats = top.need_tables("materials", "at least one [[materials]] table");
   for (std::size_t i = 0; i < mats.size(); ++i) {
     Section s(*mats[i], fmt::format("materials.{}", i), file);
+    // A numerical choice, not a constitutive one, so read here and not by read_material (element
+    // tests have no grid to average over).
+    const int anti_locking = s.choice("anti_locking", {"none", "cell", "node"}, -1);
+    c.material_anti_locking.push_back(anti_locking < 0 ? std::nullopt
+                                                       : std::optional(static_cast<AntiLocking>(anti_locking)));
     c.materials.push_back(read_material(s, c.materials, &c.warnings));
   }
 
@@ -519,9 +543,9 @@ Config read_document(const toml::table& root, const std::string& file) {
                                          c.recorders.empty() ? std::string("none defined")
                                                              : quoted_list(c.recorders, &RecorderConfig::name),
                                          printable(c.output.frame_label)));
-    if (it->whole_model())
-      os.fail("frame_label", fmt::format("recorder \"{}\" records the whole-model {}, which has no value before the "
-                                         "first step; label the frames by a particle quantity's recorder",
+    if (it->from_solver())
+      os.fail("frame_label", fmt::format("recorder \"{}\" records {}, which the solver gives only after the first "
+                                         "step; label the frames by a particle quantity's recorder",
                                          it->name, it->quantity));
     c.output.frame_label_recorder = static_cast<int>(it - c.recorders.begin());
   }

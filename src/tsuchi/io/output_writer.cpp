@@ -82,7 +82,7 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output,
       recorders_(std::move(recorder_names)) {
   std::string global_header = "time,step,dt,kinetic_energy,strain_energy,gravity_potential,total_energy,mass";
   for (int d = 0; d < D; ++d) global_header += fmt::format(",momentum_{}", "xyz"[d]);
-  global_header += ",unbalanced_force_ratio\n";
+  global_header += ",unbalanced_force_ratio,released_particles\n";
   std::string recorder_header;
   if (!recorders_.empty()) {
     recorder_header = "time,step";
@@ -127,14 +127,14 @@ void OutputWriter<D>::frame(double label) {
 }
 
 template <int D>
-void OutputWriter<D>::global_row(double time, std::int64_t step, double dt, double unbalanced_force_ratio,
+void OutputWriter<D>::global_row(double time, std::int64_t step, double dt, const StepReport& report,
                                  const std::vector<double>& recorder_values) {
   const auto q = global_quantities<D>(m_);
   std::string row = fmt::format("{:.12g},{},{:.9g},{:.12g},{:.12g},{:.12g},{:.12g},{:.12g}", time, step, dt,
                                 q.kinetic_energy, q.strain_energy, q.gravity_potential,
                                 q.kinetic_energy + q.strain_energy + q.gravity_potential, q.mass);
   for (int d = 0; d < D; ++d) row += fmt::format(",{:.12g}", q.momentum[d]);
-  row += fmt::format(",{:.6g}\n", unbalanced_force_ratio);
+  row += fmt::format(",{:.6g},{}\n", report.unbalanced_force_ratio, report.released_particles);
   global_.append(row);
   if (recorders_.empty()) return;
   row = fmt::format("{:.12g},{}", time, step);

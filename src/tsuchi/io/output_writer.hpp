@@ -11,6 +11,7 @@
 #include "tsuchi/io/output_lock.hpp"
 #include "tsuchi/model/model.hpp"
 
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,6 +35,12 @@ bool is_frame_file_name(const std::string& name);
 // frame or a directory, or an input file inside the output directory under an output's name.
 void check_output_paths(const Config& config, const std::string& directory, const std::string& checkpoint);
 
+// What global.csv takes from the solver about the step that ends at a row's time.
+struct StepReport {
+  double unbalanced_force_ratio = std::numeric_limits<double>::quiet_NaN();  // nan before the first step
+  std::int64_t released_particles = 0;  // expansions held by solver.hold_released_volume
+};
+
 template <int D>
 class OutputWriter {
  public:
@@ -47,8 +54,7 @@ class OutputWriter {
   // output.frame_label recorder).
   void frame(double label);
   // A row of global.csv, and of recorders.csv with the recorders' values (in the order of the names).
-  // unbalanced_force_ratio: the solver's, of the step that ends at `time` (NaN written as nan before the first step).
-  void global_row(double time, std::int64_t step, double dt, double unbalanced_force_ratio,
+  void global_row(double time, std::int64_t step, double dt, const StepReport& report,
                   const std::vector<double>& recorder_values);
   // Writes the queued CSV rows to the files (done with every frame, at the end of a run and by the
   // run loop every half minute); with `sync`, also to disk, as before a checkpoint.

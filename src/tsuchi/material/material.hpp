@@ -13,8 +13,9 @@
 //                                     (may return by value; must not write the state)
 //   Inadmissible outside(const Eigen::Vector3d& principal, StateRef) const;  starting-stress check
 //   std::string describe() const;     its parameters after the moduli, starting ", " (tsuchi element)
-// optionally k0_hint (a string_view added to a refused K0 profile) and imperfection_limit() (why
-// an imperfection cannot apply), and
+// optionally k0_hint (a string_view added to a refused K0 profile), imperfection_limit() (why
+// an imperfection cannot apply) and bool released(StateRef) (the last update released the point
+// in tension: its expansion is an opening between particles, solver.hold_released_volume), and
 // with a reader of its input parameters beside it, in namespace tsuchi,
 //   template <class Table, class Warn> M read_model_parameters(Table&, const LinearElastic& moduli,
 //                                                              Warn&& warn, std::type_identity<M>);

@@ -232,6 +232,9 @@ struct MohrCoulomb {
   }
   // The moduli of a point: perfectly plastic, so always the elastic ones.
   const LinearElastic& stiffness(StateRef) const { return elastic; }
+  // Whether the last update released the point in tension (a crack opened across it): the solver
+  // then keeps its volume rather than let the opening inflate it (solver.hold_released_volume).
+  bool released(StateRef s) const { return s[kMode] == static_cast<double>(YieldMode::Tension); }
 
   Inadmissible outside(const Eigen::Vector3d& principal, StateRef s) const {
     const Strength st = strength(s[kCohesionFactor], s[kFrictionFactor]);

@@ -28,4 +28,13 @@ const char* to_string(VelocityTransfer t) {
   return "?";
 }
 
+const char* to_string(AntiLocking a) {
+  switch (a) {
+    case AntiLocking::None: return "none";
+    case AntiLocking::Cell: return "cell";
+    case AntiLocking::Node: return "node";
+  }
+  return "?";
+}
+
 }  // namespace tsuchi

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace tsuchi {
@@ -19,6 +20,11 @@ enum class FaceCondition { Free, Roller, Fixed };
 // How velocities go between particles and grid: FLIP (blended with PIC by pic_fraction) or APIC
 // (Jiang et al. 2015), which carries an affine velocity field per particle.
 enum class VelocityTransfer { Flip, Apic };
+// How the volumetric strain increment of a particle is taken (solver/volumetric_strain.hpp): its
+// own (the GIMP/linear gradient at the particle, which locks in isochoric flow); that of the
+// centre of the background cell holding it (mean dilatation per cell); or the volume-weighted
+// average of the particles' increments through the nodes (F-bar by P2G/G2P averaging).
+enum class AntiLocking { None, Cell, Node };
 
 struct GridConfig {
   Triple origin{};
@@ -82,6 +88,10 @@ struct SolverConfig {
   ShapeKind shape = ShapeKind::Gimp;
   double pic_fraction = 0.0;       // 0 = pure FLIP, 1 = pure PIC
   VelocityTransfer velocity_transfer = VelocityTransfer::Flip;  // APIC only with pic_fraction = 0
+  AntiLocking anti_locking = AntiLocking::Node;  // every material's, unless materials.N.anti_locking says
+  // A particle whose stress the last update released in tension keeps its volume when the step
+  // would expand it: the opening is a gap between particles, not a looser material.
+  bool hold_released_volume = true;
   double damping = 0.0;            // Cundall local damping coefficient alpha, eq (20)
   double mass_threshold = 1e-9;    // nodes lighter than this fraction of the lightest particle are skipped
   // Particles are re-stored in block order every this many steps (0: never), so that neighbours
@@ -128,9 +138,21 @@ struct OutputConfig {
 // it takes no body, min, max or reduction.
 inline constexpr const char* kUnbalancedForceRatio = "unbalanced_force_ratio";
 
+// reaction_x, reaction_y, reaction_z: the force that holds a prescribed-motion body to its motion
+// (ExplicitSolver::reaction()). A recorder of it names the body and takes no min, max or reduction.
+inline constexpr std::string_view kReactionPrefix = "reaction_";
+
 struct RecorderConfig {
   enum class Reduction { Mean, Sum, Min, Max };
   bool whole_model() const { return quantity == kUnbalancedForceRatio; }
+  // The axis of a reaction_ quantity, or -1.
+  int reaction_axis() const {
+    if (quantity.size() != kReactionPrefix.size() + 1 || quantity.rfind(kReactionPrefix, 0) != 0) return -1;
+    const char a = quantity.back();
+    return a == 'x' ? 0 : a == 'y' ? 1 : a == 'z' ? 2 : -1;
+  }
+  // A number the solver computes in a step, with no value before the first one.
+  bool from_solver() const { return whole_model() || reaction_axis() >= 0; }
   std::string name;
   int body = -1;                       // -1: every body
   std::optional<Triple> min, max;      // box of initial positions; unset: no limit
@@ -147,6 +169,8 @@ struct Config {
   Triple gravity{};
   GridConfig grid;
   std::vector<Material> materials;
+  // Per material, materials.N.anti_locking where given; otherwise solver.anti_locking holds.
+  std::vector<std::optional<AntiLocking>> material_anti_locking;
   std::vector<BodyConfig> bodies;
   BoundaryConfig boundary;
   SolverConfig solver;
@@ -165,5 +189,6 @@ struct Config {
 const char* to_string(Scheme s);
 const char* to_string(ShapeKind s);
 const char* to_string(VelocityTransfer t);
+const char* to_string(AntiLocking a);
 
 }  // namespace tsuchi

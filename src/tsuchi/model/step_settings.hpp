@@ -5,6 +5,7 @@
 #include "tsuchi/model/config.hpp"
 
 #include <cstdint>
+#include <vector>
 
 namespace tsuchi {
 
@@ -15,6 +16,8 @@ struct StepSettings {
   double pic_fraction = 0.0;       // 0 = pure FLIP, 1 = pure PIC
   // FLIP (blended by pic_fraction) or APIC, which keeps Particles::C_p; APIC has pic_fraction 0.
   VelocityTransfer velocity_transfer = VelocityTransfer::Flip;
+  std::vector<AntiLocking> anti_locking;  // per material (Model::materials)
+  bool hold_released_volume = true;       // see SolverConfig
   double damping = 0.0;            // Cundall local damping coefficient alpha, eq (20)
   Vec<D> gravity = Vec<D>::Zero();
   double node_mass_floor = 0.0;    // nodes lighter than this are skipped (kg)

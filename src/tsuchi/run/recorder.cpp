@@ -14,7 +14,7 @@ namespace tsuchi {
 
 template <int D>
 Recorder<D>::Recorder(const RecorderConfig& config, std::size_t index, const Model<D>& model) : c_(config) {
-  if (c_.whole_model()) return;  // no particle set
+  if (c_.from_solver()) return;  // no particle set
   const auto q = find_recorder_quantity(c_.quantity, D);
   if (!q) throw InputError(fmt::format("recorder \"{}\": unknown quantity \"{}\"", c_.name, c_.quantity));
   field_ = q->first, component_ = q->second;
@@ -61,12 +61,13 @@ const std::vector<std::size_t>& Recorder<D>::indices(const Particles<D>& p) cons
 template <int D>
 double Recorder<D>::value(const ExplicitSolver<D>& solver) const {
   if (c_.whole_model()) return c_.scale * solver.unbalanced_force_ratio() + c_.offset;
+  if (const int axis = c_.reaction_axis(); axis >= 0) return c_.scale * solver.reaction(c_.body)[axis] + c_.offset;
   return value(solver.model().particles);
 }
 
 template <int D>
 double Recorder<D>::value(const Particles<D>& p) const {
-  if (c_.whole_model()) return std::numeric_limits<double>::quiet_NaN();  // needs the solver: value(solver)
+  if (c_.from_solver()) return std::numeric_limits<double>::quiet_NaN();  // needs the solver: value(solver)
   const auto& set = indices(p);
   double r = 0.0;
   switch (c_.reduction) {

@@ -21,10 +21,11 @@ class Recorder {
   Recorder(const RecorderConfig& config, std::size_t index, const Model<D>& model);
 
   double value(const Particles<D>& p) const;  // scale * reduction + offset (a particle quantity)
-  // scale * quantity + offset, for either kind: a particle quantity of the solver's particles, or
-  // the whole-model unbalanced_force_ratio of its latest step (NaN before the first step).
+  // scale * quantity + offset, for every kind: a particle quantity of the solver's particles, the
+  // whole-model unbalanced_force_ratio or a body's reaction of its latest step (NaN before the
+  // first step).
   double value(const ExplicitSolver<D>& solver) const;
-  bool whole_model() const { return c_.whole_model(); }
+  bool from_solver() const { return c_.from_solver(); }
   const RecorderConfig& config() const { return c_; }
   std::size_t size() const { return count_; }
   // Non-empty when the value has crossed its stop bound: says which and where.

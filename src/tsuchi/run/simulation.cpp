@@ -118,6 +118,11 @@ std::string shell_word(const std::string& w) {
   return r + "'";
 }
 
+template <int D>
+StepReport step_report(const ExplicitSolver<D>& solver) {
+  return {solver.unbalanced_force_ratio(), solver.released_particles()};
+}
+
 std::string checkpoint_path(const Config& config, const std::string& output_directory) {
   const std::string& f = config.checkpoint.file;
   return f.front() == '/' ? f : output_directory + "/" + f;
@@ -149,7 +154,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   // progress it makes towards the bound.
   std::vector<double> recorder_start(recorders.size(), 0.0);
   for (std::size_t k = 0; k < recorders.size(); ++k)
-    if ((recorders[k].config().stop_above || recorders[k].config().stop_below) && !recorders[k].whole_model())
+    if ((recorders[k].config().stop_above || recorders[k].config().stop_below) && !recorders[k].from_solver())
       recorder_start[k] = recorders[k].value(solver);
   if (options.write_output) check_output_paths(config, dir, ck_path);
   RunProgress start;
@@ -176,7 +181,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   const Recorder<D>* label = oc.frame_label_recorder >= 0 ? &recorders[static_cast<std::size_t>(oc.frame_label_recorder)] : nullptr;
   auto write_frame = [&](double time) { out->frame(label ? label->value(solver) : time); };
   if (out && !options.restart) {
-    out->global_row(0.0, 0, 0.0, solver.unbalanced_force_ratio(), recorder_row());
+    out->global_row(0.0, 0, 0.0, step_report(solver), recorder_row());
     write_frame(0.0);
   }
   std::string stopped_by;
@@ -254,7 +259,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
       if (after_step) after_step(solver);
       if (out) {
         if (oc.global_interval <= 0.0 || now >= next_row - tol) {
-          out->global_row(now, solver.steps(), dt, solver.unbalanced_force_ratio(), recorder_row());
+          out->global_row(now, solver.steps(), dt, step_report(solver), recorder_row());
           last_row = now;
           if (oc.global_interval > 0.0) {
             row_index = static_cast<std::int64_t>(std::floor((now + tol) / oc.global_interval)) + 1;
@@ -289,7 +294,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         // unbalanced-force ratio: it has no start value (NaN before the first step) and decays
         // neither linearly nor monotonically, so the time fraction stands for it.
         for (const auto& [bound, sign] : {std::pair{rc.stop_above, 1.0}, std::pair{rc.stop_below, -1.0}}) {
-          if (!bound || r.whole_model() || sign * (*bound - recorder_start[k]) <= 0.0) continue;
+          if (!bound || r.from_solver() || sign * (*bound - recorder_start[k]) <= 0.0) continue;
           const double f = std::clamp((value - recorder_start[k]) / (*bound - recorder_start[k]), 0.0, 1.0);
           if (f > progress.fraction)
             progress.fraction = f, progress.leader = rc.name, progress.leader_value = value, progress.leader_bound = *bound;
@@ -339,7 +344,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   }
   if (kc.enabled()) save();
   if (out) {
-    if (solver.time() > last_row) out->global_row(solver.time(), solver.steps(), dt, solver.unbalanced_force_ratio(), recorder_row());  // the final state
+    if (solver.time() > last_row) out->global_row(solver.time(), solver.steps(), dt, step_report(solver), recorder_row());  // the final state
     if (solver.time() > last_frame) write_frame(solver.time());
     out->flush_global();
   }

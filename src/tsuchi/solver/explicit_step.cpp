@@ -8,6 +8,7 @@
 #include "tsuchi/solver/damping.hpp"
 #include "tsuchi/solver/jaumann.hpp"
 #include "tsuchi/solver/particle_domain.hpp"
+#include "tsuchi/solver/volumetric_strain.hpp"
 #include "tsuchi/model/material_state.hpp"
 
 #include <fmt/format.h>
@@ -20,6 +21,9 @@ namespace tsuchi {
 
 template <int D>
 void ExplicitSolver<D>::step(double dt) {
+  const bool driven = std::any_of(m_.motion.begin(), m_.motion.end(), [](const BodyMotion<D>& b) { return b.any; });
+  if (driven) held_impulse_.resize(m_.particles.size(), Vec<D>::Zero());
+  step_dt_ = dt;
   switch (m_.step.kernel) {
     case ShapeKind::Linear: step_with<shape::LinearKernel>(dt); break;
     case ShapeKind::UGimp:
@@ -294,7 +298,7 @@ void ExplicitSolver<D>::g2p_flip(double dt) {
         });
     Vec<D> v = p.v_p[i] + dt * a;
     if (beta > 0.0) v = (1.0 - beta) * v + beta * vL;
-    impose_motion(i, v);
+    hold_motion(i, v);
     if (!v.allFinite()) note_fault(nonfinite_, i);
     p.v_p[i] = v;
     if constexpr (Then == AfterGather::Remap) {
@@ -367,7 +371,7 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
         if (Dp(d, d) > tiny) C.col(d) = B.col(d) / Dp(d, d);
     }
     Vec<D> v = vL;
-    impose_motion(i, v, C);
+    hold_motion(i, v, C);
     if (!v.allFinite() || !C.allFinite()) note_fault(nonfinite_, i);
     p.v_p[i] = v;
     p.C_p[i] = C;
@@ -399,6 +403,55 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
   }
 }
 
+// solver.anti_locking = "node": the nodal volume-weighted average of the particles' volumetric
+// strain increments,
+//   e_i = sum_p S_ip V_p tr(d_eps_p) / sum_p S_ip V_p,        tr(d_eps_p)_bar = sum_i S_ip e_i,   (V3)
+// over the particles of the materials that ask for it, which update_stress() then gives each such
+// particle in place of its own (eq V1 of solver/volumetric_strain.hpp). This is the volume
+// averaging by the particle-grid transfers of Zhao, Jiang and Choo (2023, "Circumventing
+// volumetric locking in explicit material point methods", CMAME), in rate form: a smooth field,
+// so no cell-by-cell pressure pattern, for any kernel. One more scatter over the particles.
+template <int D>
+template <class Kernel>
+void ExplicitSolver<D>::average_volumetric_strain(double dt, const std::vector<Vec<D>>& v_strain) {
+  const auto& g = m_.grid;
+  const auto& p = m_.particles;
+  const auto& by_material = m_.step.anti_locking;
+  node_volume_strain_.resize(g.size());
+  node_volume_.resize(g.size());
+  zero_nodal(schedule_, node_volume_strain_, node_volume_);
+  struct Sums {
+    Vec<D> w, dw;
+  };
+  const Sums zero{Vec<D>::Zero(), Vec<D>::Zero()};
+  schedule_.scatter([&](std::size_t i) {
+    const auto mat = static_cast<std::size_t>(p.material_p[i]);
+    if (mat >= by_material.size() || by_material[mat] != AntiLocking::Node) return;
+    const Vec<D>* const v_g = v_strain.data();
+    double* const e_g = node_volume_strain_.data();
+    double* const V_g = node_volume_.data();
+    Stencil<D, Kernel> st;
+    st.compute(g, p.x_p[i], p.l_p[i]);
+    double div = 0.0;  // tr L = sum_i G_i . v_i
+    st.gather(
+        zero,
+        [&](Sums& row, std::int64_t k, double w, double dw) {
+          row.w += w * v_g[k];
+          row.dw += dw * v_g[k];
+        },
+        [&](const Sums& row, double T, const std::array<double, D - 1>& dT) {
+          div += T * row.dw[0];
+          for (int d = 1; d < D; ++d) div += dT[d - 1] * row.w[d];
+        });
+    const double V = p.V_p[i], Ve = V * dt * div;
+    st.scatter([&](double T, const std::array<double, D - 1>&) { return T; },
+               [&](std::int64_t k, double w, double, double T) {
+                 e_g[k] += (w * T) * Ve;
+                 V_g[k] += (w * T) * V;
+               });
+  });
+}
+
 // Strain and spin increments from the grid velocity, eq (10); Jaumann rotation (22) and the
 // constitutive update (11); volume (12), GIMP domain (14); with AfterStress::Move also positions
 // (5)-(6).
@@ -420,13 +473,21 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
     Vec<D> w, dw, vL;  // sums along x of wx v, dwx v and wx v^L
   };
   const Sums zero{Vec<D>::Zero(), Vec<D>::Zero(), Vec<D>::Zero()};
+  const bool hold_released = m_.step.hold_released_volume;
+  std::int64_t released = 0;
+  const auto& by_material = m_.step.anti_locking;
+  if (std::find(by_material.begin(), by_material.end(), AntiLocking::Node) != by_material.end())
+    average_volumetric_strain<Kernel>(dt, v_strain);
   // One parallel region for every material group; a thread goes on to the next group without
   // waiting, as the groups hold different particles.
-#pragma omp parallel
+#pragma omp parallel reduction(+ : released)
   for (std::size_t mat = 0; mat < materials.size(); ++mat) {
+    // Missing entries (a model built by hand) keep the particle's own volumetric strain.
+    const AntiLocking remedy = mat < by_material.size() ? by_material[mat] : AntiLocking::None;
     std::visit(
         [&](const auto& model) {
           using M = std::decay_t<decltype(model)>;
+          constexpr bool can_release = requires(const M& mm, StateRef s) { mm.released(s); };
           const typename M::Context context = model.context();
           const auto state = state_columns<M>(p);
           const auto np = static_cast<std::int64_t>(p.size());
@@ -456,17 +517,39 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
                   for (int d = 1; d < D; ++d) L.col(d) += dT[d - 1] * row.w;
                   if constexpr (move) vL += T * row.vL;
                 });
-            const Voigt<D> d_eps = dt * sym_voigt<D>(L);
+            Voigt<D> d_eps = dt * sym_voigt<D>(L);
+            if (remedy == AntiLocking::Cell) {
+              take_cell_volumetric_strain<D>(d_eps, dt * cell_centre_divergence<D>(g, v_g, st.xi));
+            } else if (remedy == AntiLocking::Node) {  // eq (V3)
+              const double* const e_g = node_volume_strain_.data();
+              const double* const V_g = node_volume_.data();
+              double e = 0.0;
+              st.gather(
+                  0.0,
+                  [&](double& row, std::int64_t k, double w, double) {
+                    if (V_g[k] > 0.0) row += w * (e_g[k] / V_g[k]);
+                  },
+                  [&](const double& row, double T, const std::array<double, D - 1>&) { e += T * row; });
+              take_cell_volumetric_strain<D>(d_eps, e);
+            }
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
             jaumann_rotate(p.sigma_p[i], d_omega);
             if (rotate_sigma0) jaumann_rotate(p.sigma0_p[i], d_omega);
-            model.template update<D>(p.sigma_p[i], d_eps, d_omega, context, StateRef{state.data(), i});
+            const StateRef point{state.data(), i};
+            model.template update<D>(p.sigma_p[i], d_eps, d_omega, context, point);
             p.eps_p[i] += d_eps;
-            const double J = 1.0 + trace<D>(d_eps);
+            double J = 1.0 + trace<D>(d_eps);
             if (!p.sigma_p[i].allFinite() || !std::isfinite(J)) note_fault(nonfinite_, i);
             else if (!(J > 0.0)) note_fault(inverted_, i);
+            // A point released in tension keeps its volume (and GIMP domain) when the step would
+            // expand it: the opening is a gap between particles, not a looser material, and left
+            // to grow it inflated particles 49-fold and cut the stable time step.
+            bool held = false;
+            if constexpr (can_release)
+              if (hold_released && J > 1.0 && model.released(point)) held = true, J = 1.0, ++released;
             p.V_p[i] *= J;
             if (domain_update) {
+              if (held) d_eps = Voigt<D>::Zero();
               if (defer_domain) deferred_eps_[i] = d_eps;
               else update_particle_domain<D>(p.l_p[i], d_eps, g.h);
             }
@@ -475,6 +558,7 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
         },
         materials[mat].model);
   }
+  released_ = released;
 }
 
 // Prescribed components take the prescribed value, evaluated at the start-of-step position.
@@ -497,6 +581,42 @@ inline void ExplicitSolver<D>::impose_motion(std::size_t i, Vec<D>& v, Mat<D>& C
       v[d] = motion.velocity(d, m_.particles.x_p[i]);
       C.row(d) = motion.grad.row(d);
     }
+}
+
+// g2p's velocity update of a particle of a prescribed-motion body: the prescribed components
+// replace the free ones, and the impulse that took, m_p (v_held - v_free), is booked for
+// reaction() (eq R1 there).
+template <int D>
+inline void ExplicitSolver<D>::hold_motion(std::size_t i, Vec<D>& v) {
+  if (!m_.motion[m_.particles.body_p[i]].any) return;
+  const Vec<D> free = v;
+  impose_motion(i, v);
+  held_impulse_[i] = m_.particles.m_p[i] * (v - free);
+}
+
+template <int D>
+inline void ExplicitSolver<D>::hold_motion(std::size_t i, Vec<D>& v, Mat<D>& C) {
+  if (!m_.motion[m_.particles.body_p[i]].any) return;
+  const Vec<D> free = v;
+  impose_motion(i, v, C);
+  held_impulse_[i] = m_.particles.m_p[i] * (v - free);
+}
+
+// The force that held body b to its prescribed motion in the latest step:
+//   R_b = sum_{p in b} m_p (v_p^held - v_p^free) / dt                                          (R1)
+// with v^free the velocity the grid gave the particle (FLIP, PIC blend or APIC). It is the
+// reaction of the machine that drives the body: by the momentum balance of the whole model,
+// minus the force the rest of the model (soil, gravity) puts on the body, plus the body's own
+// m dv/dt (0 at constant velocity). Summed in storage order, one thread: the same bits on any
+// thread count.
+template <int D>
+Vec<D> ExplicitSolver<D>::reaction(int body) const {
+  Vec<D> r = Vec<D>::Zero();
+  if (!stepped_ || held_impulse_.empty() || !(step_dt_ > 0.0)) r.setConstant(std::numeric_limits<double>::quiet_NaN());
+  else
+    for (std::size_t i = 0; i < held_impulse_.size(); ++i)
+      if (m_.particles.body_p[i] == body) r += held_impulse_[i];
+  return r / step_dt_;
 }
 
 // Eqs (5)-(6) with the interpolated v^L; a prescribed component moves the particle at exactly the

@@ -45,6 +45,13 @@ class ExplicitSolver {
   // the definition); NaN before the first step. Computed on the first call after a step, by one
   // pass over the active nodes, which leaves every other result alone.
   double unbalanced_force_ratio() const;
+  // The force (N; N/m in 2D) that held body `body` to its prescribed velocity in the latest step,
+  // eq (R1) in explicit_step.cpp: pushing a footing down into soil gives a negative y component.
+  // Zero for a body without prescribed motion; NaN before the first step of this process.
+  Vec<D> reaction(int body) const;
+  // Particles whose expansion the latest step held because their stress was released in tension
+  // (solver.hold_released_volume; StepSettings::hold_released_volume).
+  std::int64_t released_particles() const { return released_; }
   // "particle ID of body "NAME" at (x, y)", for messages.
   std::string describe_particle(std::size_t i) const;
 
@@ -76,9 +83,12 @@ class ExplicitSolver {
   template <class Kernel, AfterGather Then> void g2p_flip(double dt);
   template <class Kernel, AfterGather Then> void g2p_affine(double dt);
   template <class Kernel, AfterStress Then> void update_stress(double dt, const std::vector<Vec<D>>& v_strain);
+  template <class Kernel> void average_volumetric_strain(double dt, const std::vector<Vec<D>>& v_strain);
   // Inlined: both run for every particle in the innermost stages.
   [[gnu::always_inline]] inline void impose_motion(std::size_t i, Vec<D>& v) const;
   [[gnu::always_inline]] inline void impose_motion(std::size_t i, Vec<D>& v, Mat<D>& C) const;
+  [[gnu::always_inline]] inline void hold_motion(std::size_t i, Vec<D>& v);
+  [[gnu::always_inline]] inline void hold_motion(std::size_t i, Vec<D>& v, Mat<D>& C);
   [[gnu::always_inline]] inline void move_particle(std::size_t i, double dt, Vec<D> vL);
   void apply_deferred_domain_update();
   void report_faults() const;
@@ -90,10 +100,14 @@ class ExplicitSolver {
   std::int64_t escaped_ = -1;   // first particle found outside the grid in this step
   std::int64_t inverted_ = -1;  // first particle whose volume went to zero or below
   std::int64_t nonfinite_ = -1; // first particle with a NaN or Inf stress, velocity or volume
+  std::int64_t released_ = 0;  // released_particles()
+  double step_dt_ = 0.0;       // length of the latest step
+  std::vector<Vec<D>> held_impulse_;  // per particle of a prescribed body: m (v_held - v_free) of the latest step
   bool stepped_ = false;                     // a step ran in this process: the grid holds its solve
   mutable double ratio_ = 0.0;               // unbalanced_force_ratio() of step ratio_step_
   mutable std::int64_t ratio_step_ = -1;
   mutable std::vector<std::array<double, 3>> tile_sums_;  // per active tile: max, sum, count
+  std::vector<double> node_volume_strain_, node_volume_;  // anti_locking = "node": sums of eq (V3)
   std::vector<Voigt<D>> deferred_eps_;  // USF: this step's strain increments, for the domain update
   BlockSchedule<D> schedule_;           // colour-by-colour scatter order, brought up to date every step
   typename Particles<D>::Scratch sort_scratch_;  // storage for the periodic reordering

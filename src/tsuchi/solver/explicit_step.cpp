@@ -652,22 +652,32 @@ void ExplicitSolver<D>::note_fault(std::int64_t& slot, std::size_t i) {
   if (slot < 0 || idx < slot) slot = idx;
 }
 
-// The unbalanced-force ratio of FLAC (Itasca, FLAC/FLAC3D manuals, "unbalanced force ratio"): the
-// largest unbalanced force magnitude over the grid points divided by the average applied force
-// magnitude over the grid points,
+// The unbalanced-force ratio of FLAC (Itasca, FLAC3D manual, command "zone ratio", keyword
+// maximum; "model solve ratio-maximum"): the largest unbalanced force magnitude over the grid
+// points divided by the average applied force magnitude over the grid points,
 //   R = max_i |f_i^unb| / ((1/N) sum_i |f_i^app|),
 // over the N nodes of the latest step's solve with m_i above solver.node_mass_floor, where
 //   f_i^unb = f_i = f_i^ext + f_i^int on the free components (a fixed component is balanced by
 //             its reaction: set to 0), the net nodal force of eq (4) before the local damping
 //             force is added (with Cundall damping f + f_damp is not the out-of-balance force: the
-//             damping force is a numerical device that vanishes with f);
+//             damping force is a numerical device that vanishes with f). A component held by a
+//             body (bodies.prescribed_velocity) at a node where one of the body's particles has
+//             weight counts as fixed too: the held particles' velocity is reset every step
+//             whatever the node's force, so the force there in that component is the reaction of
+//             the held motion, as at a FLAC grid point given a fixed velocity (FLAC3D's own advice
+//             for a stiff loading platen), not an imbalance that damping could remove;
 //   |f_i^app| = (|f_i^ext| + |f_i^int|) / 2, f_i^ext = m_i b (gravity, the only external nodal
-//             load), f_i^int = f_i - m_i b, all components. FLAC's applied force is the sum of the
-//             force magnitudes acting on a grid point halved; here the two are the gravity load
-//             and the stress divergence. At equilibrium |f^int| = |f^ext| and |f^app| is the nodal
-//             weight; with gravity just switched on (f^int = 0) it is half of it and R is of order
-//             1 (about 2 max_i m_i / mean_i m_i); under boundary loading alone (b = 0) it is half
-//             the internal force.
+//             load), f_i^int = f_i - m_i b, all components. FLAC describes its applied force only
+//             as a measure of the total force applied to the grid point; half the sum of the force
+//             magnitudes is tsuchi's reading, with the gravity load and the net stress divergence
+//             as the two forces (FLAC's zones each add their own force to a grid point; the sum
+//             over particles here is taken before the magnitude). At equilibrium
+//             |f^int| = |f^ext| and |f^app| is the nodal weight; with gravity just switched on
+//             (f^int = 0) it is half of it and R is of order 1 (about 2 max_i m_i / mean_i m_i);
+//             under boundary loading alone (b = 0) it is half the net internal force, which at
+//             rest is left only where a reaction balances it.
+// FLAC3D also offers ratio-average (mean unbalanced over mean applied: its default) and
+// ratio-local (the largest of the per-point ratios); R here is the strictest of the two global ones.
 // For USF the force is that of the step's updated stress, for USL and MUSL that of the stress at
 // the start of the step. R = 0 when no node carries a force (nothing loaded: balanced); NaN before
 // the first step of the process (no solve yet: after a restart, until the next step).
@@ -682,6 +692,14 @@ double ExplicitSolver<D>::unbalanced_force_ratio() const {
   const auto& tiles = schedule_.active_tiles();
   const double floor = m_.step.node_mass_floor;
   const Vec<D> b = m_.step.gravity;
+  const bool held = std::any_of(m_.motion.begin(), m_.motion.end(), [](const auto& motion) { return motion.any; });
+  if (held) {
+    switch (m_.step.kernel) {
+      case ShapeKind::Linear: mark_driven_nodes<shape::LinearKernel>(); break;
+      case ShapeKind::UGimp:
+      case ShapeKind::Gimp: mark_driven_nodes<shape::GimpKernel>(); break;
+    }
+  }
   constexpr std::int64_t nodes = Grid<D>::kTileNodes;
   const auto nt = static_cast<std::int64_t>(tiles.size());
   tile_sums_.resize(tiles.size());
@@ -692,8 +710,9 @@ double ExplicitSolver<D>::unbalanced_force_ratio() const {
     for (std::int64_t k = first; k < first + nodes; ++k) {
       if (!(n.m[k] > floor)) continue;
       Vec<D> unbalanced = n.f[k];
+      const unsigned balanced = held ? fixed[k] | driven_[k] : fixed[k];
       for (int d = 0; d < D; ++d)
-        if (fixed[k] & (1u << d)) unbalanced[d] = 0.0;
+        if (balanced & (1u << d)) unbalanced[d] = 0.0;
       const Vec<D> ext = n.m[k] * b;
       largest = std::max(largest, unbalanced.norm());
       sum += 0.5 * (ext.norm() + (n.f[k] - ext).norm());
@@ -707,6 +726,33 @@ double ExplicitSolver<D>::unbalanced_force_ratio() const {
   ratio_ = sum > 0.0 ? largest / (sum / count) : 0.0;
   ratio_step_ = steps_;
   return ratio_;
+}
+
+// driven_ on the active nodes: bit d set where a particle of a body holding component d has a
+// nonzero weight. At the particles' positions after the step (the solve used those before it): a
+// node that enters or leaves a held particle's support in one step has a weight near zero from it,
+// as GIMP and linear weights vanish continuously at the support's edge. One pass over the held
+// particles, in particle order (the same for every thread count), on the first ratio of a step only.
+template <int D>
+template <class Kernel>
+void ExplicitSolver<D>::mark_driven_nodes() const {
+  const auto& g = m_.grid;
+  const auto& p = m_.particles;
+  driven_.resize(g.fixed_g.size());
+  schedule_.for_active_nodes([&](std::int64_t k) { driven_[static_cast<std::size_t>(k)] = 0; });
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const auto& motion = m_.motion[static_cast<std::size_t>(p.body_p[i])];
+    if (!motion.any) continue;
+    std::uint8_t mask = 0;
+    for (int d = 0; d < D; ++d)
+      if (motion.prescribed[d]) mask = static_cast<std::uint8_t>(mask | (1u << d));
+    Stencil<D, Kernel> st;
+    st.compute(g, p.x_p[i], p.l_p[i]);
+    st.scatter([](double T, const std::array<double, D - 1>&) { return T; },
+               [&](std::int64_t k, double w, double, double T) {
+                 if (w * T > 0.0) driven_[static_cast<std::size_t>(k)] |= mask;
+               });
+  }
 }
 
 template <int D>

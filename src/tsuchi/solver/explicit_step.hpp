@@ -91,6 +91,7 @@ class ExplicitSolver {
   [[gnu::always_inline]] inline void hold_motion(std::size_t i, Vec<D>& v, Mat<D>& C);
   [[gnu::always_inline]] inline void move_particle(std::size_t i, double dt, Vec<D> vL);
   void apply_deferred_domain_update();
+  template <class Kernel> void mark_driven_nodes() const;
   void report_faults() const;
   static void note_fault(std::int64_t& slot, std::size_t i);
 
@@ -108,6 +109,7 @@ class ExplicitSolver {
   mutable std::int64_t ratio_step_ = -1;
   mutable std::vector<std::array<double, 3>> tile_sums_;  // per active tile: max, sum, count
   std::vector<double> node_volume_strain_, node_volume_;  // anti_locking = "node": sums of eq (V3)
+  mutable std::vector<std::uint8_t> driven_;  // per node: bit d set where a held body drives component d
   std::vector<Voigt<D>> deferred_eps_;  // USF: this step's strain increments, for the domain update
   BlockSchedule<D> schedule_;           // colour-by-colour scatter order, brought up to date every step
   typename Particles<D>::Scratch sort_scratch_;  // storage for the periodic reordering

@@ -123,6 +123,10 @@ def measure(out, cell):
     peak = ke.max()
     after = np.nonzero((t > t[ke.argmax()]) & (ke < KE_REST * peak))[0]
     wall = os.path.join(out, "wall_time.txt")
+    seconds = float("nan")
+    if os.path.exists(wall):
+        with open(wall) as f:
+            seconds = float(f.read())
     return {
         "a": h0 / l0,
         "runout": (pts[:, 0].max() + half - l0) / l0,
@@ -134,7 +138,7 @@ def measure(out, cell):
         "ke": ke / peak,
         "points": pts,
         "l0": l0,
-        "wall": float(open(wall).read()) if os.path.exists(wall) else float("nan"),
+        "wall": seconds,
     }
 
 

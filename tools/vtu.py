@@ -14,7 +14,8 @@ _MARK = b'<AppendedData encoding="raw">'
 
 
 def read_vtu(path):
-    data = open(path, "rb").read()
+    with open(path, "rb") as f:
+        data = f.read()
     start = data.index(_MARK)
     blob_start = data.index(b"_", start) + 1
     end = data.rindex(b"</AppendedData>")

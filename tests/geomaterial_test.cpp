@@ -229,9 +229,11 @@ TEST(Geomaterial, InitialStressOutsideTheYieldSurfaceIsRefused) {
 // confining pressure is the initial stress held by eq (2). The lateral strain comes out of the
 // grid momentum balance, so the plateau of q = -<sigma_yy> - p tests the return, eq (2) and the
 // solver together against p (N_phi - 1) + 2 c sqrt(N_phi).
-// The averages are over the whole specimen, as a lab measures forces. The top cell's particles
-// are left out of the per-particle checks: their upper nodes are half-supported, so the projected
-// velocity there is not the prescribed linear field and they see a different strain.
+// The averages are over the whole specimen, as a lab measures forces. The top two cells'
+// particles are left out of the per-particle checks: the upper nodes are half-supported, so the
+// projected velocity there is not the prescribed linear field and the top cell sees a different
+// strain, which the node-averaged volumetric strain (solver.anti_locking = "node") carries one
+// cell further down.
 TEST(Geomaterial, PlaneStrainCompressionThroughTheSolverReachesMohrCoulombStrength) {
   std::string text = replace(kBlock, "extent = [0.2, 0.2]\ncell_size = 0.01", "extent = [0.1, 0.12]\ncell_size = 0.005");
   text = replace(text, "min = [0.05, 0.05]\nmax = [0.15, 0.15]",
@@ -247,7 +249,7 @@ TEST(Geomaterial, PlaneStrainCompressionThroughTheSolverReachesMohrCoulombStreng
     std::vector<char> inner(p.size(), 0);  // by id: the solver reorders particles in memory
     std::size_t n_inner = 0;
     for (std::size_t i = 0; i < p.size(); ++i)
-      if (p.x_p[i][1] < 0.095) inner[p.id_p[i]] = 1, ++n_inner;
+      if (p.x_p[i][1] < 0.09) inner[p.id_p[i]] = 1, ++n_inner;
     double q_peak = 0.0, q_end = 0.0, sxx_err = 0.0;
     run_simulation<2>(m, c, no_output(), [&](const ExplicitSolver<2>&) {
       double syy = 0.0, sxx = 0.0;
@@ -273,6 +275,9 @@ TEST(Geomaterial, PlaneStrainCompressionThroughTheSolverReachesMohrCoulombStreng
       shear += (*p.state_column("yield_mode"))[i] == static_cast<double>(YieldMode::Shear);
     }
     EXPECT_LT(plastic_volume, 1e-12) << "psi = 0";
-    EXPECT_EQ(shear, n_inner) << "every particle flows in shear at 15 % strain";
+    // Every particle flows in shear at 15 % strain, but for a few at the free sides' corners
+    // (2 of 720 with the node-averaged volumetric strain: their own strain, from half-supported
+    // nodes, differs and the average carries it to a neighbour, which unloads elastically).
+    EXPECT_GE(static_cast<double>(shear), 0.99 * static_cast<double>(n_inner)) << "particles flowing in shear at 15 % strain";
   }
 }

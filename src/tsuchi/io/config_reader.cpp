@@ -278,7 +278,13 @@ void read_solver(Section& s, Config& c) {
   v.scheme = static_cast<Scheme>(s.choice("scheme", {"usf", "usl", "musl"}, 2));
   v.shape = static_cast<ShapeKind>(s.choice("shape_function", {"linear", "ugimp", "gimp"}, 2));
   v.pic_fraction = s.number("pic_fraction", "a fraction in [0, 1]", [](double x) { return x >= 0 && x <= 1; }, 0.0);
-  v.velocity_transfer = static_cast<VelocityTransfer>(s.choice("velocity_transfer", {"flip", "apic"}, 0));
+  // APIC unless the input asks for a FLIP/PIC blend (a pic_fraction alone means FLIP: inputs written
+  // when FLIP was the default keep their meaning) or for linear shape functions: a linear-hat node
+  // that a particle has just reached takes a sliver of its mass but a full-size force gradient,
+  // and APIC's affine fit passes that node's velocity on undamped (a free block collapses within
+  // 25 steps, tests/verification_test.cpp), where FLIP weighs it by the sliver.
+  const int transfer_default = s.has("pic_fraction") || v.shape == ShapeKind::Linear ? 0 : 1;
+  v.velocity_transfer = static_cast<VelocityTransfer>(s.choice("velocity_transfer", {"flip", "apic"}, transfer_default));
   // APIC's particle velocity is the PIC one plus the affine field it carries; a FLIP blend on top
   // would bring back the noise APIC is there to remove (and its angular momentum balance).
   if (v.velocity_transfer == VelocityTransfer::Apic && v.pic_fraction > 0.0)

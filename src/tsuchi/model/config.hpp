@@ -87,7 +87,7 @@ struct SolverConfig {
   Scheme scheme = Scheme::MUSL;
   ShapeKind shape = ShapeKind::Gimp;
   double pic_fraction = 0.0;       // 0 = pure FLIP, 1 = pure PIC
-  VelocityTransfer velocity_transfer = VelocityTransfer::Flip;  // APIC only with pic_fraction = 0
+  VelocityTransfer velocity_transfer = VelocityTransfer::Apic;  // APIC only with pic_fraction = 0
   AntiLocking anti_locking = AntiLocking::Node;  // every material's, unless materials.N.anti_locking says
   // A particle whose stress the last update released in tension keeps its volume when the step
   // would expand it: the opening is a gap between particles, not a looser material.

@@ -2,7 +2,7 @@
 // The anti-locking remedy (solver.anti_locking = "cell"): a particle's volumetric strain increment
 // is replaced by that of the centre of the background cell holding it, and its deviatoric part is
 // kept:
-//   d_eps_bar = d_eps + (tr d_eps_c - tr d_eps) / D * I_D,    tr d_eps_c = dt div v (x_c)      (V1)
+//   d_eps_bar = d_eps + (tr d_eps_c - tr d_eps) / 3 * I,      tr d_eps_c = dt div v (x_c)      (V1)
 // with div v at the cell centre x_c from the bilinear (trilinear) interpolation of the cell's 2^D
 // nodal velocities:
 //   div v (x_c) = sum_a sum_d (2 a_d - 1) v_a,d / (h 2^(D-1)),   a in {0, 1}^D                 (V2)
@@ -16,7 +16,9 @@
 // bring F-bar to MPM with the same idea of an assumed volumetric strain per background cell. Only the stress update and the volume see (V1); the
 // internal force keeps the particle's own weights (not a B-bar operator in the force as well).
 //
-// In plane strain (D = 2) eps_zz stays 0: the shift goes to xx and yy, which carry the trace.
+// In plane strain (D = 2) the shift goes to zz as well, as in Hughes' (1980) B-bar for plane
+// strain: the deviatoric part of the particle's own increment (zz included) is kept, so a 2D model
+// gives the answer of the same model in 3D between rollers (Verification.ColumnSelfWeight3D).
 #include "tsuchi/core/tensor.hpp"
 #include "tsuchi/grid/grid.hpp"
 
@@ -50,8 +52,8 @@ template <int D>
 // Eq (V1): the particle's strain increment with the cell's volumetric part.
 template <int D>
 [[gnu::always_inline]] inline void take_cell_volumetric_strain(Voigt<D>& d_eps, double cell_trace) {
-  const double shift = (cell_trace - trace<D>(d_eps)) / D;
-  for (int d = 0; d < D; ++d) d_eps[d] += shift;
+  const double shift = (cell_trace - trace<D>(d_eps)) / 3.0;
+  for (int d = 0; d < 3; ++d) d_eps[d] += shift;
 }
 
 }  // namespace tsuchi

@@ -1,0 +1,255 @@
+// The numerical remedies of the step: the anti-locking volumetric strain (solver.anti_locking,
+// solver/volumetric_strain.hpp), the volume of particles released in tension
+// (solver.hold_released_volume) and the reaction of a prescribed-motion body (reaction_x/y/z).
+#include "tsuchi/io/config_reader.hpp"
+#include "tsuchi/model/model.hpp"
+#include "tsuchi/run/recorder.hpp"
+#include "tsuchi/run/simulation.hpp"
+#include "tsuchi/solver/explicit_step.hpp"
+
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace {
+
+using namespace tsuchi;
+using namespace tsuchi::test;
+
+// An elastic block in the middle of the grid, moving with the linear velocity field
+// v = (a x + b y, c x + d y): a homogeneous strain rate.
+const std::string kBlock = R"toml(
+[model]
+dimension = 2
+
+[grid]
+origin = [0.0, 0.0]
+extent = [1.0, 1.0]
+cell_size = 0.05
+
+[[materials]]
+name = "m"
+model = "linear_elastic"
+density = 2000.0
+shear_modulus = 1.0e6
+poisson_ratio = 0.45
+
+[[bodies]]
+name = "block"
+material = "m"
+min = [0.2, 0.3]
+max = [0.8, 0.7]
+particles_per_cell = 2
+velocity = ["0.02 * x + 0.01 * y", "0.005 * x - 0.03 * y"]
+
+[time]
+end = 1.0
+dt = 1.0e-4
+max_steps = 1
+
+[output]
+frames = false
+)toml";
+
+// Every remedy keeps a homogeneous strain rate as it is: the cell-centre divergence of a linear
+// field is its divergence, and the nodal average of equal values is that value. Checked on the
+// particles at least two cells inside the block (the block's edge nodes are half supported).
+TEST(AntiLocking, HomogeneousStrainRateIsKept) {
+  for (const std::string remedy : {"none", "cell", "node"})
+    for (const std::string shape : {"gimp", "linear"})
+      for (const std::string scheme : {"usf", "usl", "musl"}) {
+        const Config c = read_config_string(kBlock, "block.toml",
+                                            {"solver.anti_locking=\"" + remedy + "\"", "solver.shape_function=\"" + shape + "\"",
+                                             "solver.scheme=\"" + scheme + "\""});
+        Model<2> m = build_model<2>(c);
+        ExplicitSolver<2> s(m);
+        s.step(1e-4);
+        const double dt = 1e-4;
+        // d_eps = dt sym(L): xx 0.02, yy -0.03, xy (tensor) (0.01 + 0.005) / 2; zz 0.
+        const double exact[4] = {0.02 * dt, -0.03 * dt, 0.0, 0.0075 * dt};
+        double worst = 0.0;
+        std::size_t checked = 0;
+        for (std::size_t i = 0; i < m.particles.size(); ++i) {
+          const Vec<2>& x = m.particles.x_p[i];
+          if (x[0] < 0.3 || x[0] > 0.7 || x[1] < 0.4 || x[1] > 0.6) continue;
+          ++checked;
+          for (int k = 0; k < 4; ++k) worst = std::max(worst, std::abs(m.particles.eps_p[i][k] - exact[k]));
+        }
+        ASSERT_GT(checked, 50u);
+        EXPECT_LT(worst, 1e-12 * 0.03 * dt + 1e-18) << remedy << " " << shape << " " << scheme << " worst " << worst;
+      }
+}
+
+// The strip footing of examples/footing at 10 cells per footing width: Prandtl's q = N_c c, with
+// N_c = (e^(pi tan phi) tan^2(45 + phi/2) - 1) / tan(phi) = 5.16 for phi = 0.1 deg (2 + pi =
+// 5.14 at phi = 0). The mean over s/B = 0.05 .. 0.10 measured 5.79 (+12 %) with the node-averaged
+// volumetric strain and 6.12 (+19 %) without a remedy; the error halves with the cell (+7.0 %,
+// +3.7 % at 20 and 40 cells: examples/footing/README.md). The test holds the coarse grid to 15 %
+// and the remedy to a lower pressure than no remedy.
+double footing_q_over_c(const std::string& remedy) {
+  const Config c = read_config_file(std::string(TSUCHI_SOURCE_DIR) + "/examples/footing/footing.toml",
+                                    {"grid.cell_size=0.1", "output.frames=false", "solver.anti_locking=\"" + remedy + "\""});
+  Model<2> m = build_model<2>(c);
+  const std::vector<Recorder<2>> rec = make_recorders<2>(c, m);
+  double sum = 0.0;
+  int n = 0;
+  run_simulation<2>(m, c, no_output(), [&](const ExplicitSolver<2>& s) {
+    const double settlement = rec[0].value(s);
+    if (settlement >= 0.05) sum += rec[1].value(s), ++n;
+  });
+  return sum / n;
+}
+
+TEST(AntiLocking, StripFootingNearPrandtl) {
+  const double phi = 0.1 * std::numbers::pi / 180.0;
+  const double Nq = std::exp(std::numbers::pi * std::tan(phi)) * std::pow(std::tan(std::numbers::pi / 4 + phi / 2), 2);
+  const double Nc = (Nq - 1.0) / std::tan(phi);
+  const double node = footing_q_over_c("node"), none = footing_q_over_c("none");
+  std::printf("strip footing, 10 cells per width: q/c %.3f (node), %.3f (none); N_c = %.3f\n", node, none, Nc);
+  EXPECT_NEAR(Nc, 5.16, 0.005);
+  EXPECT_NEAR(node, Nc, 0.15 * Nc);
+  EXPECT_LT(node, none - 0.02 * Nc) << "the remedy lowers the locked overshoot";
+}
+
+// A cohesionless block pulled apart (no gravity, v = 0.5 x along x): every point fails in tension
+// and is released. With hold_released_volume the particles keep their volume, and global.csv's
+// count is every particle; without it the volume grows with the stretch, (1 + 0.5 dt)^n.
+const std::string kStretched = R"toml(
+[model]
+dimension = 2
+
+[grid]
+origin = [0.0, 0.0]
+extent = [2.0, 1.0]
+cell_size = 0.05
+
+[[materials]]
+name = "sand"
+model = "mohr_coulomb"
+density = 1600.0
+shear_modulus = 1.0e6
+poisson_ratio = 0.3
+cohesion = 0.0
+friction_angle = 30.0
+
+[[bodies]]
+name = "block"
+material = "sand"
+min = [0.5, 0.3]
+max = [1.0, 0.6]
+particles_per_cell = 2
+velocity = ["0.5 * (x - 0.75)", "0.0"]
+
+[time]
+end = 0.2
+dt = 1.0e-4
+
+[output]
+frames = false
+)toml";
+
+TEST(ReleasedVolume, ReleasedParticlesKeepTheirVolume) {
+  for (const bool hold : {true, false}) {
+    const Config c = read_config_string(kStretched, "stretched.toml",
+                                        {std::string("solver.hold_released_volume=") + (hold ? "true" : "false")});
+    Model<2> m = build_model<2>(c);
+    const std::vector<double> V0 = m.particles.V_p;
+    const std::vector<std::int64_t> id0 = m.particles.id_p;
+    std::vector<double> V0_by_id(V0.size());
+    for (std::size_t i = 0; i < V0.size(); ++i) V0_by_id[static_cast<std::size_t>(id0[i])] = V0[i];
+    std::int64_t released = 0;
+    run_simulation<2>(m, c, no_output(), [&](const ExplicitSolver<2>& s) { released = s.released_particles(); });
+    double largest = 0.0;
+    for (std::size_t i = 0; i < m.particles.size(); ++i)
+      largest = std::max(largest, m.particles.V_p[i] / V0_by_id[static_cast<std::size_t>(m.particles.id_p[i])]);
+    std::printf("hold_released_volume = %d: largest V / V0 = %.4f, released in the last step %lld of %zu\n", hold,
+                largest, static_cast<long long>(released), m.particles.size());
+    if (hold) {
+      EXPECT_LT(largest, 1.001);
+      EXPECT_GT(released, static_cast<std::int64_t>(m.particles.size() / 2));
+    } else {
+      EXPECT_GT(largest, 1.05);  // (1 + 0.5 * 1e-4)^2000 = 1.105 at the block's centre
+      EXPECT_EQ(released, 0);
+    }
+  }
+}
+
+// An elastic column standing on a held base plate (a body with prescribed velocity 0), brought to
+// rest by local damping: the plate's reaction carries the weight of the column and of the plate,
+// (m_column + m_plate) g, upwards.
+const std::string kPlate = R"toml(
+[model]
+dimension = 2
+gravity = [0.0, -9.81]
+
+[grid]
+origin = [0.0, 0.0]
+extent = [0.2, 1.2]
+cell_size = 0.05
+
+[[materials]]
+name = "soil"
+model = "linear_elastic"
+density = 2000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+
+[[bodies]]
+name = "plate"
+material = "soil"
+min = [0.0, 0.0]
+max = [0.2, 0.1]
+particles_per_cell = 2
+prescribed_velocity = { x = 0.0, y = 0.0 }
+
+[[bodies]]
+name = "column"
+material = "soil"
+min = [0.0, 0.1]
+max = [0.2, 1.0]
+particles_per_cell = 2
+
+[boundary]
+x_min = "roller"
+x_max = "roller"
+
+[solver]
+damping = 0.3
+
+[time]
+end = 0.8
+courant = 0.5
+
+[output]
+frames = false
+
+[[recorders]]
+name = "base_force"
+body = "plate"
+quantity = "reaction_y"
+)toml";
+
+TEST(Reaction, HeldPlateCarriesTheWeight) {
+  for (const std::string transfer : {"apic", "flip"}) {
+    const Config c = read_config_string(kPlate, "plate.toml", {"solver.velocity_transfer=\"" + transfer + "\""});
+    Model<2> m = build_model<2>(c);
+    const std::vector<Recorder<2>> rec = make_recorders<2>(c, m);
+    double mass = 0.0;
+    for (const double mp : m.particles.m_p) mass += mp;
+    double R = 0.0;
+    run_simulation<2>(m, c, no_output(), [&](const ExplicitSolver<2>& s) { R = rec[0].value(s); });
+    const double weight = mass * 9.81;
+    std::printf("%s: reaction of the held plate %.3f N/m, weight of column and plate %.3f N/m (%+.3f %%)\n",
+                transfer.c_str(), R, weight, 100.0 * (R / weight - 1.0));
+    EXPECT_NEAR(R, weight, 0.01 * weight) << transfer;
+  }
+}
+
+}  // namespace

@@ -457,6 +457,14 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, const std::vector<V
                  V_g[k] += (w * T) * V;
                });
   });
+  // e_i once per node, and node_volume_ becomes 1 where e_i is defined (0 elsewhere): the gather
+  // in update_stress then needs no division or test per node.
+  schedule_.for_active_nodes([&](std::int64_t k) {
+    double& e = node_volume_strain_[static_cast<std::size_t>(k)];
+    double& V = node_volume_[static_cast<std::size_t>(k)];
+    if (V > 0.0) e /= V, V = 1.0;
+    else e = 0.0, V = 0.0;
+  });
 }
 
 // Strain and spin increments from the grid velocity, eq (10); Jaumann rotation (22) and the
@@ -539,7 +547,8 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
               st.gather(
                   Pair{0.0, 0.0},
                   [&](Pair& row, std::int64_t k, double w, double) {
-                    if (V_g[k] > 0.0) row.e += w * (e_g[k] / V_g[k]), row.S += w;
+                    row.e += w * e_g[k];  // e_g: e_i, V_g: 1 where e_i is defined
+                    row.S += w * V_g[k];
                   },
                   [&](const Pair& row, double T, const std::array<double, D - 1>&) {
                     sum.e += T * row.e;

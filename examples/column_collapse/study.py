@@ -1,16 +1,21 @@
 """Granular column collapse at three aspect ratios against the experimental scaling laws of Lube et
-al. (2005), and the velocity transfers (APIC, FLIP, PIC blends) compared at a = 2.
+al. (2005), and at a = 2 the velocity transfers (APIC, FLIP, PIC blends) and the anti-locking
+remedies (node, the default; none; cell with --extra) compared.
 
 Runs collapse.toml one case after another on one thread, measures each final deposit and writes
 into RESULTS (default results/column_collapse):
   CASE/                  each run's output (particles.pvd, global.csv)
-  table.md, table.csv    a, transfer, cells across w0, runout, final height, the laws, KE ratio, time
+  table.md, table.csv    a, transfer, anti-locking, cells across w0, runout, final height, the laws,
+                         KE ratio, particles released in tension at the end, wall time
   collapse.png           runout and final height against a on the laws, kinetic energy, deposits
 
-usage: study.py [--tsuchi PATH] [--results DIR] [--extra] [--plot-only]
-  --extra      also the grid study at a = 2 (w0/10 and w0/40) and phi = 19.8 deg at a = 0.5 and 2
+usage: study.py [--tsuchi PATH] [--results DIR] [--extra] [--plot-only] [--small-png PATH]
+  --extra      also the grid study at a = 2 (w0/10 and w0/40), anti_locking = "cell" at a = 2 and
+               phi = 19.8 deg at a = 0.5 and 2
   --plot-only  measure and plot the runs already in RESULTS (none is run)
-About 3.5 minutes on one core (and 3 more with --extra).
+  --small-png  also a copy of collapse.png 1000 pixels wide in 64 colours (about 60 kB), the one
+               README.md shows: --small-png examples/column_collapse/collapse.png
+About 4 minutes on one core (and 3.5 more with --extra).
 """
 import argparse
 import csv
@@ -30,6 +35,7 @@ INPUT = os.path.join(HERE, "collapse.toml")
 W0 = 0.2                 # m, the column's width (collapse.toml)
 PARTICLES_PER_CELL = 2   # collapse.toml
 KE_REST = 1e-6           # at rest: kinetic energy below this fraction of its peak
+TAIL = 0.5               # s: the largest kinetic energy over the last TAIL of a run is reported too
 
 
 # --- Lube, Huppert, Sparks and Freundt (2005), two-dimensional (channel) collapses -----------------
@@ -65,6 +71,8 @@ def geometry(a, cell=0.01):
             f"time.end={end}"]
 
 
+# velocity_transfer = "apic" is the solver's default (and collapse.toml's); it is set here anyway
+# so that a case means the same whatever the defaults.
 TRANSFERS = {
     "apic": ['solver.velocity_transfer="apic"'],
     "flip": ['solver.velocity_transfer="flip"', "solver.pic_fraction=0.0"],
@@ -73,18 +81,27 @@ TRANSFERS = {
 }
 
 
+# solver.anti_locking: "node" is the solver's default (and collapse.toml's), "none" the particle's
+# own volumetric strain increment, "cell" that of its cell's centre.
+ANTI_LOCKING = ("node", "none", "cell")
+
+
 def cases(extra):
-    """(name, a, transfer, cell, friction angle) of every run."""
-    out = [(f"a{a:g}_apic", a, "apic", 0.01, 30.0) for a in (0.5, 2.0, 6.0)]
-    out += [(f"a2_{t}", 2.0, t, 0.01, 30.0) for t in ("flip", "pic0.05", "pic1")]
+    """(name, a, transfer, cell, friction angle, anti-locking) of every run."""
+    out = [(f"a{a:g}_apic", a, "apic", 0.01, 30.0, "node") for a in (0.5, 2.0, 6.0)]
+    out += [(f"a2_{t}", 2.0, t, 0.01, 30.0, "node") for t in ("flip", "pic0.05", "pic1")]
+    out += [("a2_apic_lock_none", 2.0, "apic", 0.01, 30.0, "none")]
     if extra:
-        out += [("a2_apic_h0.02", 2.0, "apic", 0.02, 30.0), ("a2_apic_h0.005", 2.0, "apic", 0.005, 30.0)]
-        out += [(f"a{a:g}_apic_phi19.8", a, "apic", 0.01, 19.8) for a in (0.5, 2.0)]
+        out += [("a2_apic_lock_cell", 2.0, "apic", 0.01, 30.0, "cell")]
+        out += [("a2_apic_h0.02", 2.0, "apic", 0.02, 30.0, "node"), ("a2_apic_h0.005", 2.0, "apic", 0.005, 30.0, "node")]
+        out += [(f"a{a:g}_apic_phi19.8", a, "apic", 0.01, 19.8, "node") for a in (0.5, 2.0)]
     return out
 
 
-def overrides(a, transfer, cell, phi):
-    sets = geometry(a, cell) + TRANSFERS[transfer]
+def overrides(a, transfer, cell, phi, anti_locking="node"):
+    if anti_locking not in ANTI_LOCKING:
+        raise ValueError(f"anti_locking {anti_locking!r}: expected one of {ANTI_LOCKING}")
+    sets = geometry(a, cell) + TRANSFERS[transfer] + [f'solver.anti_locking="{anti_locking}"']
     if phi != 30.0:
         # Wider grid for the more mobile material; K0 = 1 - sin(phi) stays inside the surface.
         sets[1] = f"grid.extent=[{3.0 if a >= 2 else 1.2}, {whole_cells(a * W0 * 1.25, cell)}]"
@@ -120,8 +137,12 @@ def measure(out, cell):
     l0, h0 = first[:, 0].max() + half, first[:, 1].max() + half
     g = np.genfromtxt(os.path.join(out, "global.csv"), delimiter=",", names=True)
     ke, t = g["kinetic_energy"], g["time"]
+    released = g["released_particles"] if "released_particles" in g.dtype.names else np.full_like(t, np.nan)
     peak = ke.max()
-    after = np.nonzero((t > t[ke.argmax()]) & (ke < KE_REST * peak))[0]
+    # At rest for good: from the sample after the last one at or above KE_REST of the peak (a run
+    # can dip below it and rise again as its deposit rings elastically).
+    above = np.nonzero(ke >= KE_REST * peak)[0]
+    settled = above[-1] + 1 if len(above) else 0
     wall = os.path.join(out, "wall_time.txt")
     seconds = float("nan")
     if os.path.exists(wall):
@@ -132,8 +153,12 @@ def measure(out, cell):
         "runout": (pts[:, 0].max() + half - l0) / l0,
         "height": (pts[:, 1].max() + half) / l0,
         "ke_ratio": ke[-1] / peak,
-        "t_rest": t[after[0]] if len(after) else float("nan"),
+        "t_rest": t[settled] if settled < len(t) else float("nan"),
+        "ke_tail_max": ke[t >= t[-1] - TAIL].max() / peak,
         "t_end": t_end,
+        "released_end": released[-1],
+        "released_max": released.max(),
+        "particles": len(pts),
         "time": t,
         "ke": ke / peak,
         "points": pts,
@@ -147,30 +172,34 @@ def law_text(lo, hi):
 
 
 def write_tables(rows, results):
-    header = ["case", "a", "transfer", "phi", "cells_w0", "runout", "runout_lube", "height", "height_lube",
-              "ke_end_over_peak", "t_rest_s", "t_end_s", "wall_s"]
+    header = ["case", "a", "transfer", "anti_locking", "phi", "cells_w0", "runout", "runout_lube", "height",
+              "height_lube", "ke_end_over_peak", "ke_max_last_0.5s_over_peak", "t_rest_s", "t_end_s", "released_end",
+              "released_max", "particles", "wall_s"]
     with open(os.path.join(results, "table.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(header)
-        for name, a, transfer, cell, phi, m in rows:
+        for name, a, transfer, cell, phi, lock, m in rows:
             lo, hi = lube_runout(a)
-            w.writerow([name, f"{m['a']:.3f}", transfer, phi, round(W0 / cell), f"{m['runout']:.3f}",
+            w.writerow([name, f"{m['a']:.3f}", transfer, lock, phi, round(W0 / cell), f"{m['runout']:.3f}",
                         law_text(lo, hi), f"{m['height']:.3f}", f"{lube_height(a):.3f}", f"{m['ke_ratio']:.2e}",
-                        f"{m['t_rest']:.2f}", f"{m['t_end']:.2f}", f"{m['wall']:.1f}"])
-    lines = ["| a | transfer | phi | cells across w0 | runout (L-L0)/L0 | Lube 2005 | H/L0 | Lube 2005 | "
-             "KE end / peak | KE < 1e-6 peak from t = | wall time |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
-    for name, a, transfer, cell, phi, m in rows:
+                        f"{m['ke_tail_max']:.2e}", f"{m['t_rest']:.2f}", f"{m['t_end']:.2f}", f"{m['released_end']:.0f}",
+                        f"{m['released_max']:.0f}", m["particles"], f"{m['wall']:.1f}"])
+    lines = ["| a | transfer | anti-locking | phi | cells across w0 | runout (L-L0)/L0 | Lube 2005 | H/L0 | Lube 2005 | "
+             "KE end / peak | max over last 0.5 s | KE < 1e-6 peak for good from t = | released at end (max) | wall time |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for name, a, transfer, cell, phi, lock, m in rows:
         lo, hi = lube_runout(a)
         rest = "never" if math.isnan(m["t_rest"]) else f"{m['t_rest']:.2f} s"
-        lines.append(f"| {a:g} | {transfer} | {phi:g} | {W0 / cell:.0f} | {m['runout']:.2f} | {law_text(lo, hi)} | "
-                     f"{m['height']:.2f} | {lube_height(a):.2f} | {m['ke_ratio']:.1e} | {rest} | {m['wall']:.0f} s |")
+        lines.append(f"| {a:g} | {transfer} | {lock} | {phi:g} | {W0 / cell:.0f} | {m['runout']:.2f} | "
+                     f"{law_text(lo, hi)} | {m['height']:.2f} | {lube_height(a):.2f} | {m['ke_ratio']:.1e} | "
+                     f"{m['ke_tail_max']:.1e} | {rest} | "
+                     f"{m['released_end']:.0f} ({m['released_max']:.0f}) of {m['particles']} | {m['wall']:.0f} s |")
     with open(os.path.join(results, "table.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))
 
 
-def plot(rows, results):
+def plot(rows, results, dpi=110, small=None):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -195,11 +224,16 @@ def plot(rows, results):
     ax2.set_ylabel("final height H_inf / L0")
     transfer_style = {"apic": ("o", "C0"), "flip": ("s", "C1"), "pic0.05": ("^", "C2"), "pic1": ("v", "C3")}
     a_colour = {0.5: "C0", 2.0: "C4", 6.0: "C5"}
-    for name, a, transfer, cell, phi, m in rows:
+    lock_style = {"none": ("X", "C6"), "cell": ("P", "C8")}
+    for name, a, transfer, cell, phi, lock, m in rows:
         marker, colour = transfer_style[transfer]
-        main = cell == 0.01 and phi == 30.0
+        main = cell == 0.01 and phi == 30.0 and lock == "node"
         if main:
             label = f"tsuchi {transfer}" if a == 2.0 or transfer != "apic" else None
+            kw = dict(marker=marker, color=colour, ms=8)
+        elif lock != "node":
+            marker, colour = lock_style[lock]
+            label = f"{transfer}, anti_locking {lock}"
             kw = dict(marker=marker, color=colour, ms=8)
         elif phi != 30.0:
             label = f"{transfer}, phi {phi:g} deg" if a == 2.0 else None
@@ -209,15 +243,17 @@ def plot(rows, results):
             kw = dict(marker="<" if cell > 0.01 else ">", color=colour, mfc="none", ms=8)
         ax1.plot(m["a"], m["runout"], ls="none", label=label, **kw)
         ax2.plot(m["a"], m["height"], ls="none", label=label, **kw)
-        if main:
+        if main or (lock != "node" and cell == 0.01 and phi == 30.0):
             ax3.semilogy(m["time"][1:], np.maximum(m["ke"][1:], 1e-12),
-                         color=a_colour[a] if transfer == "apic" else colour,
-                         ls="-" if transfer == "apic" else ":", label=f"a = {a:g}, {transfer}")
-        if main and transfer == "apic":
-            x, y = m["points"][:, 0] / m["l0"], m["points"][:, 1] / m["l0"]
-            edges = np.arange(0.0, x.max() + 0.1, 0.1)
-            top = [y[(x >= e0) & (x < e1)].max(initial=0.0) for e0, e1 in zip(edges[:-1], edges[1:])]
-            ax4.plot(0.5 * (edges[:-1] + edges[1:]), top, color=a_colour[a], label=f"a = {a:g}")
+                         color=a_colour[a] if transfer == "apic" and main else colour,
+                         ls="-" if transfer == "apic" and main else ":",
+                         label=f"a = {a:g}, {transfer}" + ("" if lock == "node" else f", anti_locking {lock}"))
+            if transfer == "apic":
+                x, y = m["points"][:, 0] / m["l0"], m["points"][:, 1] / m["l0"]
+                edges = np.arange(0.0, x.max() + 0.1, 0.1)
+                top = [y[(x >= e0) & (x < e1)].max(initial=0.0) for e0, e1 in zip(edges[:-1], edges[1:])]
+                ax4.plot(0.5 * (edges[:-1] + edges[1:]), top, color=a_colour[a] if main else colour,
+                         ls="-" if main else "--", label=f"a = {a:g}" + ("" if main else f", anti_locking {lock}"))
     ax1.legend(fontsize=8)
     ax2.legend(fontsize=8)
     ax3.axhline(KE_REST, color="k", lw=0.8)
@@ -230,11 +266,21 @@ def plot(rows, results):
     ax4.set_ylabel("y / L0")
     ax4.set_title("final surfaces: highest particle per 0.1 L0 (APIC, w0 / 20)")
     ax4.legend(fontsize=8)
-    fig.suptitle("granular column collapse, plane strain, c = 0, phi = 30 deg, rough floor")
+    fig.suptitle("granular column collapse, plane strain, c = 0, phi = 30 deg, rough floor "
+                 "(anti_locking node unless named)")
     fig.tight_layout()
     out = os.path.join(results, "collapse.png")
-    fig.savefig(out, dpi=110)
+    fig.savefig(out, dpi=dpi)
     print(f"wrote {out}")
+    if small:
+        # 1000 pixels wide in 64 colours (Pillow, which matplotlib needs anyway): about 60 kB, the
+        # copy examples/column_collapse/collapse.png that README.md shows.
+        from PIL import Image
+
+        im = Image.open(out).convert("RGB")
+        im = im.resize((1000, round(im.height * 1000 / im.width)), Image.LANCZOS).quantize(colors=64)
+        im.save(small, optimize=True)
+        print(f"wrote {small}")
 
 
 def main():
@@ -243,19 +289,20 @@ def main():
     parser.add_argument("--results", default=os.path.join("results", "column_collapse"))
     parser.add_argument("--extra", action="store_true")
     parser.add_argument("--plot-only", action="store_true")
+    parser.add_argument("--small-png", metavar="PATH", help="also write a small copy of the plot (for README.md)")
     args = parser.parse_args()
     os.makedirs(args.results, exist_ok=True)
     rows = []
-    for name, a, transfer, cell, phi in cases(args.extra):
+    for name, a, transfer, cell, phi, lock in cases(args.extra):
         out = os.path.join(args.results, name)
         if not args.plot_only:
-            cmd = run_case(args.tsuchi, out, overrides(a, transfer, cell, phi))
+            cmd = run_case(args.tsuchi, out, overrides(a, transfer, cell, phi, lock))
             print(" ".join(cmd[:1] + [os.path.relpath(c) if c == INPUT else c for c in cmd[1:]]), flush=True)
         elif not os.path.exists(os.path.join(out, "particles.pvd")):
             continue
-        rows.append((name, a, transfer, cell, phi, measure(out, cell)))
+        rows.append((name, a, transfer, cell, phi, lock, measure(out, cell)))
     write_tables(rows, args.results)
-    plot(rows, args.results)
+    plot(rows, args.results, small=args.small_png)
 
 
 if __name__ == "__main__":

@@ -98,6 +98,12 @@ namespace {
 
 // Zeroes nodal arrays on the active tiles, in one parallel loop: a serial fill of the whole grid
 // would be the largest serial part of the step.
+// A weighted sum and its weight (the node-averaged volumetric strain's gather). At namespace
+// scope: clang 14 cannot instantiate a local struct of a generic lambda in a template.
+struct WeightedSum {
+  double e, S;
+};
+
 template <int D, class... Arrays>
 void zero_nodal(const BlockSchedule<D>& schedule, Arrays&... a) {
   schedule.for_active_nodes([&](std::int64_t k) { ((a[k] = zero_of<typename Arrays::value_type>()), ...); });
@@ -540,17 +546,14 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
               const double* const V_g = node_volume_.data();
               // Normalised by the weight on nodes that hold a value: beyond the grid's edge a GIMP
               // stencil loses weight, and sum S_ip < 1 there would scale the strain down.
-              struct Pair {
-                double e, S;
-              };
-              Pair sum{0.0, 0.0};
+              WeightedSum sum{0.0, 0.0};
               st.gather(
-                  Pair{0.0, 0.0},
-                  [&](Pair& row, std::int64_t k, double w, double) {
+                  WeightedSum{0.0, 0.0},
+                  [&](WeightedSum& row, std::int64_t k, double w, double) {
                     row.e += w * e_g[k];  // e_g: e_i, V_g: 1 where e_i is defined
                     row.S += w * V_g[k];
                   },
-                  [&](const Pair& row, double T, const std::array<double, D - 1>&) {
+                  [&](const WeightedSum& row, double T, const std::array<double, D - 1>&) {
                     sum.e += T * row.e;
                     sum.S += T * row.S;
                   });

@@ -104,6 +104,32 @@ struct WeightedSum {
   double e, S;
 };
 
+// The particle's strain increment with the volumetric part its material's remedy takes
+// (solver.anti_locking): the cell centre's, eq (V2), or the nodal average's, eq (V3), gathered
+// from e_g (e_i) and V_g (1 where e_i is defined) and normalised by the weight on such nodes:
+// beyond the grid's edge a GIMP stencil loses weight, and sum S_ip < 1 would scale it down.
+template <int D, class Kernel>
+[[gnu::always_inline]] inline void apply_anti_locking(AntiLocking remedy, const Grid<D>& g, const Stencil<D, Kernel>& st,
+                                                      const Vec<D>* v_g, const double* e_g, const double* V_g, double dt,
+                                                      Voigt<D>& d_eps) {
+  if (remedy == AntiLocking::Cell) {
+    replace_volumetric_strain<D>(d_eps, dt * cell_centre_divergence<D>(g, v_g, st.xi));
+  } else if (remedy == AntiLocking::Node) {
+    WeightedSum sum{0.0, 0.0};
+    st.gather(
+        WeightedSum{0.0, 0.0},
+        [&](WeightedSum& row, std::int64_t k, double w, double) {
+          row.e += w * e_g[k];
+          row.S += w * V_g[k];
+        },
+        [&](const WeightedSum& row, double T, const std::array<double, D - 1>&) {
+          sum.e += T * row.e;
+          sum.S += T * row.S;
+        });
+    replace_volumetric_strain<D>(d_eps, sum.e / sum.S);
+  }
+}
+
 template <int D, class... Arrays>
 void zero_nodal(const BlockSchedule<D>& schedule, Arrays&... a) {
   schedule.for_active_nodes([&](std::int64_t k) { ((a[k] = zero_of<typename Arrays::value_type>()), ...); });
@@ -539,26 +565,7 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
                   if constexpr (move) vL += T * row.vL;
                 });
             Voigt<D> d_eps = dt * sym_voigt<D>(L);
-            if (remedy == AntiLocking::Cell) {
-              take_cell_volumetric_strain<D>(d_eps, dt * cell_centre_divergence<D>(g, v_g, st.xi));
-            } else if (remedy == AntiLocking::Node) {  // eq (V3)
-              const double* const e_g = node_volume_strain_.data();
-              const double* const V_g = node_volume_.data();
-              // Normalised by the weight on nodes that hold a value: beyond the grid's edge a GIMP
-              // stencil loses weight, and sum S_ip < 1 there would scale the strain down.
-              WeightedSum sum{0.0, 0.0};
-              st.gather(
-                  WeightedSum{0.0, 0.0},
-                  [&](WeightedSum& row, std::int64_t k, double w, double) {
-                    row.e += w * e_g[k];  // e_g: e_i, V_g: 1 where e_i is defined
-                    row.S += w * V_g[k];
-                  },
-                  [&](const WeightedSum& row, double T, const std::array<double, D - 1>&) {
-                    sum.e += T * row.e;
-                    sum.S += T * row.S;
-                  });
-              take_cell_volumetric_strain<D>(d_eps, sum.e / sum.S);
-            }
+            apply_anti_locking<D>(remedy, g, st, v_g, node_volume_strain_.data(), node_volume_.data(), dt, d_eps);
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
             jaumann_rotate(p.sigma_p[i], d_omega);
             if (rotate_sigma0) jaumann_rotate(p.sigma0_p[i], d_omega);

@@ -49,10 +49,11 @@ template <int D>
   return div * g.inv_h / static_cast<double>(1 << (D - 1));
 }
 
-// Eq (V1): the particle's strain increment with the cell's volumetric part.
+// Eq (V1): the particle's strain increment with the volumetric part `volumetric` (the cell's, or
+// the nodal average's).
 template <int D>
-[[gnu::always_inline]] inline void take_cell_volumetric_strain(Voigt<D>& d_eps, double cell_trace) {
-  const double shift = (cell_trace - trace<D>(d_eps)) / 3.0;
+[[gnu::always_inline]] inline void replace_volumetric_strain(Voigt<D>& d_eps, double volumetric) {
+  const double shift = (volumetric - trace<D>(d_eps)) / 3.0;
   for (int d = 0; d < 3; ++d) d_eps[d] += shift;
 }
 

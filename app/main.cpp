@@ -58,11 +58,14 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
     fmt::print("body       {:<16} {:>9} particles, material \"{}\"\n", c.bodies[b].name, m.body_particles[b],
                c.bodies[b].material);
   fmt::print("particles  {}\n", m.particles.size());
-  fmt::print("solver     {}, {} shape functions, {}, damping {}\n", to_string(c.solver.scheme),
+  fmt::print("solver     {}, {} shape functions, {}, anti-locking {}, damping {}\n", to_string(c.solver.scheme),
              to_string(c.solver.shape),
              c.solver.velocity_transfer == VelocityTransfer::Apic ? std::string("APIC transfer")
-                                                                   : fmt::format("PIC fraction {}", c.solver.pic_fraction),
-             c.solver.damping);
+                                                                   : fmt::format("FLIP, PIC fraction {}", c.solver.pic_fraction),
+             to_string(c.solver.anti_locking), c.solver.damping);
+  for (std::size_t k = 0; k < c.material_anti_locking.size(); ++k)
+    if (c.material_anti_locking[k] && *c.material_anti_locking[k] != c.solver.anti_locking)
+      fmt::print("           material \"{}\": anti-locking {}\n", c.materials[k].name, to_string(*c.material_anti_locking[k]));
   fmt::print("time step  {:.4g} s ({}; stable limit {:.4g} s)\n", dt,
              c.time.courant ? fmt::format("Courant {}", *c.time.courant) : std::string("fixed"), dt_crit);
   // To the time a recorder will stop the run when that can be foreseen, else to time.end.

@@ -13,6 +13,10 @@
 #   triaxial_main_job, triaxial_bands_reference, triaxial_convergence_script
 #                           full-size or reduced triaxial runs of 5 to 35 s in Release (minutes
 #                           sanitized); the same solver paths as Triaxial.Reduced*
+#   AntiLocking.StripFootingNearPrandtl
+#                           two footing runs of 5 to 10 s in Release (over 5 min sanitized); the
+#                           anti-locking, reaction and damping paths are run by the other
+#                           AntiLocking, Reaction and ReleasedVolume tests and column_collapse
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -20,4 +24,4 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTSUCHI_SANITIZE=ON
 cmake --build build-asan -j"$(nproc)"
 export ASAN_OPTIONS=detect_leaks=1:check_initialization_order=1:strict_init_order=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-ctest --test-dir build-asan --output-on-failure -j"$(nproc)" -E '^(triaxial_reduced_bands|kill_and_restart|triaxial_main_job|triaxial_bands_reference|triaxial_convergence_script)$'
+ctest --test-dir build-asan --output-on-failure -j"$(nproc)" -E '^(triaxial_reduced_bands|kill_and_restart|triaxial_main_job|triaxial_bands_reference|triaxial_convergence_script|AntiLocking.StripFootingNearPrandtl)$'

@@ -21,8 +21,7 @@ namespace tsuchi {
 
 template <int D>
 void ExplicitSolver<D>::step(double dt) {
-  const bool driven = std::any_of(m_.motion.begin(), m_.motion.end(), [](const BodyMotion<D>& b) { return b.any; });
-  if (driven) held_impulse_.resize(m_.particles.size(), Vec<D>::Zero());
+  if (drives_bodies()) held_impulse_.resize(m_.particles.size(), Vec<D>::Zero());
   step_dt_ = dt;
   switch (m_.step.kernel) {
     case ShapeKind::Linear: step_with<shape::LinearKernel>(dt); break;
@@ -61,8 +60,7 @@ void ExplicitSolver<D>::step_with(double dt) {
   // Local damping acts on the free motion only: a component a prescribed body drives is held, and
   // a damping force there would only add to the force holding it (its reaction), 5 % of the
   // nodal force with damping 0.05, as a fixed component takes none either.
-  undamped_driven_ = m_.step.damping > 0.0 &&
-                     std::any_of(m_.motion.begin(), m_.motion.end(), [](const BodyMotion<D>& b) { return b.any; });
+  undamped_driven_ = m_.step.damping > 0.0 && drives_bodies();
   if (undamped_driven_) mark_driven_nodes<Kernel>();
   const auto& field = nodes();
   switch (m_.step.scheme) {
@@ -307,6 +305,20 @@ void ExplicitSolver<D>::g2p(double dt) {
   else g2p_flip<Kernel, Then>(dt);
 }
 
+// Runs g2p's per-particle work over every particle: colour by colour when the remap writes nodes,
+// else a plain parallel loop (each particle writes only its own arrays).
+template <int D>
+template <typename ExplicitSolver<D>::AfterGather Then, class F>
+void ExplicitSolver<D>::for_each_gathering_particle(F&& particle) {
+  if constexpr (Then == AfterGather::Remap) {
+    schedule_.scatter(particle);
+  } else {
+    const auto np = static_cast<std::int64_t>(m_.particles.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < np; ++i) particle(static_cast<std::size_t>(i));
+  }
+}
+
 template <int D>
 template <class Kernel, typename ExplicitSolver<D>::AfterGather Then>
 void ExplicitSolver<D>::g2p_flip(double dt) {
@@ -347,13 +359,7 @@ void ExplicitSolver<D>::g2p_flip(double dt) {
     }
     if constexpr (Then == AfterGather::Move) move_particle(i, dt, vL);
   };
-  if constexpr (Then == AfterGather::Remap) {
-    schedule_.scatter(particle);  // the remap writes nodes
-  } else {
-    const auto np = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static)
-    for (std::int64_t i = 0; i < np; ++i) particle(static_cast<std::size_t>(i));
-  }
+  for_each_gathering_particle<Then>(particle);
 }
 
 // g2p with the APIC transfer (above): v_p, C_p from v^L; the remap projects the momentum of the
@@ -433,13 +439,7 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
     }
     if constexpr (Then == AfterGather::Move) move_particle(i, dt, vL);
   };
-  if constexpr (Then == AfterGather::Remap) {
-    schedule_.scatter(particle);  // the remap writes nodes
-  } else {
-    const auto np = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static)
-    for (std::int64_t i = 0; i < np; ++i) particle(static_cast<std::size_t>(i));
-  }
+  for_each_gathering_particle<Then>(particle);
 }
 
 // solver.anti_locking = "node": the nodal volume-weighted average of the particles' volumetric
@@ -726,7 +726,7 @@ double ExplicitSolver<D>::unbalanced_force_ratio() const {
   const auto& tiles = schedule_.active_tiles();
   const double floor = m_.step.node_mass_floor;
   const Vec<D> b = m_.step.gravity;
-  const bool held = std::any_of(m_.motion.begin(), m_.motion.end(), [](const auto& motion) { return motion.any; });
+  const bool held = drives_bodies();
   if (held) {
     switch (m_.step.kernel) {
       case ShapeKind::Linear: mark_driven_nodes<shape::LinearKernel>(); break;

@@ -18,6 +18,7 @@
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/grid/block_schedule.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -82,6 +83,11 @@ class ExplicitSolver {
   template <class Kernel, AfterGather Then, Transfer How> void g2p(double dt);
   template <class Kernel, AfterGather Then> void g2p_flip(double dt);
   template <class Kernel, AfterGather Then> void g2p_affine(double dt);
+  template <AfterGather Then, class F> void for_each_gathering_particle(F&& particle);
+  // Whether some body has a prescribed velocity component (it holds particles, books impulses).
+  bool drives_bodies() const {
+    return std::any_of(m_.motion.begin(), m_.motion.end(), [](const BodyMotion<D>& b) { return b.any; });
+  }
   template <class Kernel, AfterStress Then> void update_stress(double dt, const std::vector<Vec<D>>& v_strain);
   template <class Kernel> void average_volumetric_strain(double dt, const std::vector<Vec<D>>& v_strain);
   // Inlined: both run for every particle in the innermost stages.

@@ -19,7 +19,7 @@ import re
 import sys
 
 REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-LAYERS = [["core"], ["grid", "particles"], ["shape"], ["material"], ["element", "model"], ["solver"],
+LAYERS = [["core"], ["geometry", "grid", "particles"], ["shape"], ["material"], ["element", "model"], ["solver"],
           ["io"], ["run"], ["app"]]
 RANK = {folder: i for i, layer in enumerate(LAYERS) for folder in layer}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"tsuchi/([a-z_]+)/[^"]+"')

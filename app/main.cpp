@@ -54,9 +54,14 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
   for (int d = 0; d < D; ++d) cells += fmt::format("{}{}", d ? " x " : "", c.grid.cells[d]);
   fmt::print("grid       {} cells of {} m, {} nodes\n", cells, m.grid.h, m.grid.node_count());
   for (const auto& mat : c.materials) fmt::print("material   {}\n", io::describe_material(mat));
-  for (std::size_t b = 0; b < c.bodies.size(); ++b)
-    fmt::print("body       {:<16} {:>9} particles, material \"{}\"\n", c.bodies[b].name, m.body_particles[b],
-               c.bodies[b].material);
+  for (std::size_t b = 0; b < c.bodies.size(); ++b) {
+    const BodyConfig& bc = c.bodies[b];
+    std::string materials = fmt::format("material \"{}\"", bc.material);
+    for (const auto& r : bc.regions) materials += fmt::format(", \"{}\" in a {}", r.material, r.kind);
+    fmt::print("body       {:<16} {:>9} particles, {} {:.6g} {}, {}{}\n", bc.name, m.body_particles[b],
+               bc.shape_kind == "file" ? "from a file," : fmt::format("a {},", bc.shape_kind), m.body_volume[b],
+               D == 2 ? "m^2" : "m^3", materials, bc.priority != 0 ? fmt::format(", priority {}", bc.priority) : "");
+  }
   fmt::print("particles  {}\n", m.particles.size());
   fmt::print("solver     {}, {} shape functions, {}, anti-locking {}, damping {}\n", to_string(c.solver.scheme),
              to_string(c.solver.shape),

@@ -4,6 +4,7 @@
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/version.hpp"
 #include "tsuchi/io/config_reader.hpp"
+#include "tsuchi/model/model.hpp"
 
 #include "test_support.hpp"
 
@@ -109,7 +110,7 @@ TEST(InputValid, ParsesExpectedValues) {
   ASSERT_EQ(c.bodies.size(), 1u);
   EXPECT_EQ(c.bodies[0].name, "block");
   EXPECT_EQ(c.bodies[0].material_index, 0);
-  EXPECT_DOUBLE_EQ(c.bodies[0].max[0], 0.6);
+  EXPECT_DOUBLE_EQ(c.bodies[0].shape->bounds().max[0], 0.6);
   EXPECT_EQ(c.bodies[0].particles_per_cell[0], 2);
   EXPECT_EQ(c.bodies[0].particles_per_cell[1], 2);
   EXPECT_DOUBLE_EQ(c.time.end, 0.01);
@@ -292,8 +293,16 @@ TEST(InputErrors, OverlappingBodies) {
   const std::string text = replace(kValid, "[time]",
                                    "[[bodies]]\nname = \"second\"\nmaterial = \"soil\"\nmin = [0.5, 0.2]\n"
                                    "max = [0.8, 0.4]\n\n[time]");
-  const std::string msg = input_error(text);
-  expect_message(msg, {at_line(line_of(text, "min = [0.5, 0.2]")), "bodies.1.min", "\"second\" overlaps body \"block\""});
+  // Overlaps are found where the particles are placed, when the model is built.
+  const tsuchi::Config c = read_config_string(text, "case.toml");
+  std::string msg;
+  try {
+    tsuchi::build_model<2>(c);
+    ADD_FAILURE() << "overlapping bodies were accepted";
+  } catch (const InputError& e) {
+    msg = e.what();
+  }
+  expect_message(msg, {at_line(line_of(text, "min = [0.5, 0.2]")), "bodies.1.min", "\"second\" overlaps body \"block\" at ("});
 }
 
 TEST(InputErrors, TouchingBodiesAreNotOverlapping) {
@@ -302,6 +311,8 @@ TEST(InputErrors, TouchingBodiesAreNotOverlapping) {
                                    "max = [0.8, 0.4]\n\n[time]");
   const tsuchi::Config c = read_config_string(text, "case.toml");
   EXPECT_EQ(c.bodies.size(), 2u);
+  const auto m = tsuchi::build_model<2>(c);
+  EXPECT_EQ(m.body_particles.size(), 2u);
 }
 
 // ---- command-line overrides -------------------------------------------------------------------

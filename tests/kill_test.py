@@ -93,6 +93,8 @@ def vtu_complete(path):
     end_of_blob = len(data) - len(b"\n  </AppendedData>\n</VTKFile>\n")
     n = int(root.find(".//Piece").get("NumberOfPoints"))
     for arr in root.iter("DataArray"):
+        if arr.get("format") != "appended":  # the body names, ascii in the header
+            continue
         off = start + int(arr.get("offset"))
         if off + 8 > end_of_blob:
             return False

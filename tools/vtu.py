@@ -33,6 +33,19 @@ def read_vtu(path):
                 ncomp = int(d.get("NumberOfComponents", "1"))
                 name = d.get("Name") or ("points" if section == "Points" else "?")
                 out[name] = a.reshape(-1, ncomp) if ncomp > 1 else a
+    # The body names in index order (the field "body" holds the index): a String array, each name
+    # as its character codes followed by 0.
+    for d in root.iter("DataArray"):
+        if d.get("Name") == "body_names":
+            codes = [int(v) for v in d.text.split()]
+            names, word = [], []
+            for c in codes:
+                if c == 0:
+                    names.append(bytes(word).decode())
+                    word = []
+                else:
+                    word.append(c)
+            out["body_names"] = names
     return out
 
 

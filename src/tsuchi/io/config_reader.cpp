@@ -5,11 +5,14 @@
 #include "tsuchi/model/particle_fields.hpp"
 
 #include "tsuchi/io/material_reader.hpp"
+#include "tsuchi/io/particle_file_reader.hpp"
+#include "tsuchi/io/shape_reader.hpp"
 #include "tsuchi/io/toml_section.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <sstream>
 
 namespace tsuchi {
@@ -128,6 +131,9 @@ void read_initial_stress(Section& s, const Config& c, BodyConfig& b) {
     for (int d = 0; d < dim; ++d) axes += c.gravity[d] != 0.0;
     if (axes != 1)
       s.fail("k0", "a K0 profile needs model.gravity along one axis (the vertical), with the other components 0");
+    if (b.particles)
+      s.fail("k0", "a K0 profile needs a body with a shape (the overburden is integrated through the shapes); particles "
+                   "read from a file take their stress from the file's stress columns or from 'isotropic' / 'tensor'");
     is.surface = s.optional_number("surface", "the coordinate of the free surface in m", any);
     is.surface_stress = s.number("surface_stress", "the vertical stress at the surface in Pa (tension positive)",
                                  [](double v) { return v <= 0.0; }, 0.0);
@@ -174,6 +180,63 @@ void read_imperfection(Section& s, const Config& c, BodyConfig& b) {
   s.finish();
 }
 
+int material_index(const Section& s, const Config& c, const std::string& name) {
+  auto it = std::find_if(c.materials.begin(), c.materials.end(), [&](const Material& m) { return m.name == name; });
+  if (it == c.materials.end()) {
+    const std::string names = quoted_list(c.materials, &Material::name);
+    s.fail("material", fmt::format("expected one of the materials defined ({}), got \"{}\"",
+                                   names.empty() ? "none defined" : names, name));
+  }
+  return static_cast<int>(it - c.materials.begin());
+}
+
+// The kind of shape a table describes, as written ("box" when it has no `shape`), for the summary.
+std::string shape_kind(Section& s) {
+  const toml::node* n = s.get("shape");
+  std::string k = n && n->as_string() ? n->as_string()->get() : "box";
+  std::transform(k.begin(), k.end(), k.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  return k;
+}
+
+// The region a body fills (io/shape_reader.hpp), which must lie inside the grid.
+void read_body_shape(Section& s, const Config& c, BodyConfig& b, const std::string& directory) {
+  const int dim = c.dimension;
+  b.shape_kind = shape_kind(s);
+  b.shape_key = s.has("shape") ? "shape" : "min";
+  b.shape = read_shape(s, dim, directory);
+  if (const toml::node* n = s.get(b.shape_key)) b.shape_where = where(s.file(), n->source());
+  const geometry::Bounds bb = b.shape->bounds();
+  for (int d = 0; d < dim; ++d) {
+    const double lo = c.grid.origin[d], hi = c.grid.origin[d] + c.grid.extent[d];
+    const double tol = 1e-9 * c.grid.extent[d];
+    if (bb.min[d] < lo - tol || bb.max[d] > hi + tol) {
+      const char* key = b.shape_key == "shape" ? "shape" : bb.min[d] < lo - tol ? "min" : "max";
+      s.fail(key, fmt::format("body \"{}\" reaches outside the grid along {}: [{}, {}] is not inside [{}, {}]{}", b.name,
+                              axis_name[d], bb.min[d], bb.max[d], lo, hi,
+                              b.shape_key == "shape" ? " (the bounds of its shape)" : ""));
+    }
+  }
+}
+
+// particles = "FILE": a CSV table or a tsuchi .vtu frame (io/particle_file_reader.hpp).
+void read_particle_source(Section& s, const Config& c, BodyConfig& b, const std::string& directory) {
+  for (const char* k : {"shape", "min", "max", "particles_per_cell"})
+    if (s.has(k))
+      s.fail(k, fmt::format("expected either particles from a file ('particles') or a shape, not both: remove '{}'", k));
+  ParticleFileRequest r;
+  const std::string file = s.string("particles", "the name of a .csv or .vtu file of particles");
+  r.path = std::filesystem::path(file).is_absolute() || directory.empty() ? file : (std::filesystem::path(directory) / file).string();
+  r.key = s.key_path("particles");
+  r.key_where = where(s.file(), s.get("particles")->source());
+  r.dimension = c.dimension;
+  r.grid = c.grid;
+  r.keep_velocity = s.boolean("keep_velocity", false);
+  b.particles = read_particle_file(r);
+  b.shape_kind = "file";
+  b.shape_key = "particles";
+  b.shape_where = r.key_where;
+}
+
 void read_body(Section& s, Config& c, std::size_t index) {
   const int dim = c.dimension;
   BodyConfig b;
@@ -181,26 +244,25 @@ void read_body(Section& s, Config& c, std::size_t index) {
   b.material = s.string("material", "the name of a material");
   for (const auto& other : c.bodies)
     if (other.name == b.name) s.fail("name", fmt::format("body \"{}\" is defined twice", b.name));
-  auto it = std::find_if(c.materials.begin(), c.materials.end(),
-                         [&](const Material& m) { return m.name == b.material; });
-  if (it == c.materials.end()) {
-    const std::string names = quoted_list(c.materials, &Material::name);
-    s.fail("material", fmt::format("expected one of the materials defined ({}), got \"{}\"",
-                                   names.empty() ? "none defined" : names, b.material));
+  b.material_index = material_index(s, c, b.material);
+  b.priority = static_cast<int>(s.integer("priority", "a whole number (where bodies overlap, the higher keeps the particles)",
+                                          [](std::int64_t v) { return v >= -1000000 && v <= 1000000; }, 0));
+  const std::string directory = std::filesystem::path(c.source).parent_path().string();
+  if (s.has("particles")) {
+    read_particle_source(s, c, b, directory);
+  } else {
+    read_body_shape(s, c, b, directory);
+    if (s.has("keep_velocity")) s.fail("keep_velocity", "applies only to particles read from a .vtu frame ('particles')");
   }
-  b.material_index = static_cast<int>(it - c.materials.begin());
-  s.choice("shape", {"box"}, 0);
-  b.min = s.vector("min", dim, "m", any);
-  b.max = s.vector("max", dim, "m", any);
-  for (int d = 0; d < dim; ++d) {
-    if (b.max[d] <= b.min[d])
-      s.fail("max", fmt::format("expected max > min along {}, got {} <= {}", axis_name[d], b.max[d], b.min[d]));
-    const double lo = c.grid.origin[d], hi = c.grid.origin[d] + c.grid.extent[d];
-    const double tol = 1e-9 * c.grid.extent[d];
-    if (b.min[d] < lo - tol || b.max[d] > hi + tol)
-      s.fail(b.min[d] < lo - tol ? "min" : "max",
-             fmt::format("body \"{}\" reaches outside the grid along {}: [{}, {}] is not inside [{}, {}]",
-                         b.name, axis_name[d], b.min[d], b.max[d], lo, hi));
+  for (const toml::table* t : s.tables("regions")) {
+    Section rs(*t, fmt::format("{}.regions.{}", s.path(), b.regions.size()), s.file());
+    RegionConfig r;
+    r.material = rs.string("material", "the name of a material");
+    r.material_index = material_index(rs, c, r.material);
+    r.kind = shape_kind(rs);
+    r.shape = read_shape(rs, dim, directory);
+    rs.finish();
+    b.regions.push_back(r);
   }
   if (const toml::node* n = s.get("particles_per_cell")) {
     auto valid = [](std::int64_t v) { return v >= 1 && v <= 16; };
@@ -471,13 +533,6 @@ void read_recorder(Section& s, Config& c) {
   c.recorders.push_back(r);
 }
 
-// Axis-aligned boxes that share a positive volume.
-bool overlap(const BodyConfig& a, const BodyConfig& b, int dim) {
-  for (int d = 0; d < dim; ++d)
-    if (a.max[d] <= b.min[d] || b.max[d] <= a.min[d]) return false;
-  return true;
-}
-
 Config read_document(const toml::table& root, const std::string& file) {
   Config c;
   c.source = file;
@@ -506,10 +561,7 @@ Config read_document(const toml::table& root, const std::string& file) {
   const auto bodies = top.need_tables("bodies", "at least one [[bodies]] table");
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     Section s(*bodies[i], fmt::format("bodies.{}", i), file);
-    read_body(s, c, i);
-    for (std::size_t j = 0; j < i; ++j)
-      if (overlap(c.bodies[i], c.bodies[j], c.dimension))
-        s.fail("min", fmt::format("body \"{}\" overlaps body \"{}\"", c.bodies[i].name, c.bodies[j].name));
+    read_body(s, c, i);  // overlaps are found where the particles are placed (model/model.cpp)
   }
 
   if (const toml::table* t = top.table("boundary")) {

@@ -56,6 +56,25 @@ std::vector<double> vectors3(const std::vector<Vec<D>>& v) {
   return r;
 }
 
+// The body names in index order (the point field "body" holds the index), as a FieldData string
+// array: VTK's XML readers take a String array in ascii format as the character codes of each
+// string followed by a 0 (as vtkXMLWriter writes them), and ParaView lists it under Field Data.
+std::string body_names(const std::vector<std::string>& names) {
+  std::string codes;
+  for (const auto& name : names) {
+    for (const char ch : name) codes += fmt::format("{} ", static_cast<unsigned>(static_cast<unsigned char>(ch)));
+    codes += "0 ";
+  }
+  if (!codes.empty()) codes.pop_back();
+  return fmt::format(
+      "    <FieldData>\n"
+      "      <DataArray type=\"String\" Name=\"body_names\" NumberOfTuples=\"{}\" format=\"ascii\">\n"
+      "        {}\n"
+      "      </DataArray>\n"
+      "    </FieldData>\n",
+      names.size(), codes);
+}
+
 }  // namespace
 
 template <int D>
@@ -68,9 +87,10 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
       "<!-- written by tsuchi {} -->\n"
       "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
       "  <UnstructuredGrid>\n"
+      "{}"
       "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n"
       "      <PointData{}>\n",
-      version, n, n,
+      version, body_names(model.body_names), n, n,
       // The field ParaView colours by when a frame is opened: where the shear bands are.
       std::find(fields.begin(), fields.end(), "max_shear_strain") != fields.end() ? " Scalars=\"max_shear_strain\"" : "");
   for (const auto& name : fields) {

@@ -1,10 +1,12 @@
 #pragma once
 // The whole input of a run as a typed, validated value. Read from a TOML file by
 // io/config_reader.hpp; vectors have `dimension` meaningful entries (the third is 0 in 2D).
+#include "tsuchi/geometry/shape.hpp"
 #include "tsuchi/material/material.hpp"
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -40,9 +42,14 @@ struct InitialStressConfig {
   enum class Kind { None, Uniform, K0 };
   Kind kind = Kind::None;
   std::array<double, 6> tensor{};  // Uniform: xx, yy, zz, xy, yz, xz
-  double k0 = 0.0;                 // K0: sigma_h = k0 sigma_v, sigma_v = surface_stress - rho |g| depth
-  std::optional<double> surface;   // K0: coordinate of the free surface along the up axis (default: top of the body)
-  double surface_stress = 0.0;     // K0: vertical stress at the surface (overburden of what is above)
+  // K0: sigma_h = k0 sigma_v, sigma_v = surface_stress - |g| * (integral of rho over the material
+  // above the particle, along gravity: model/overburden.hpp).
+  double k0 = 0.0;
+  // K0, when given: a level free surface at this coordinate of the up axis and the particle's own
+  // density all the way up, sigma_v = surface_stress - rho |g| (surface - x_up) (the meaning
+  // before shaped bodies).
+  std::optional<double> surface;
+  double surface_stress = 0.0;     // K0: the surcharge on top of every column (Pa, tension positive)
   bool subtract = false;
 };
 
@@ -54,11 +61,40 @@ struct ImperfectionConfig {
   bool friction = false;
 };
 
+// Part of a body with another material (layered ground in one body): a particle of the body
+// inside the shape takes `material`; a later region of the body wins over an earlier one.
+struct RegionConfig {
+  std::string material;
+  int material_index = 0;
+  geometry::ShapePtr shape;
+  std::string kind;  // the shape's kind as written ("box", "polygon", ...), for the summary
+};
+
+// Particles read from a file (io/particle_file_reader.hpp) instead of a shape: positions, volumes
+// and any particle field given there. Columns are named like recorder quantities
+// ("velocity_x", "stress_xy", a material state field's name).
+struct ParticleTable {
+  std::string file;                   // as given, for messages
+  std::vector<Triple> x;              // position (m)
+  std::vector<double> volume;         // m^3 (m^2 per metre in 2D)
+  std::vector<std::string> where;     // "FILE:LINE" or "FILE: point N" of each row, for messages
+  std::vector<std::string> columns;   // further columns: a particle field component each
+  std::vector<std::vector<double>> values;  // values[column][row]
+};
+
 struct BodyConfig {
   std::string name;
   std::string material;
   int material_index = 0;
-  Triple min{}, max{};
+  // The region the body fills (a box from min/max when no `shape` is given), or null when the
+  // particles come from a file.
+  geometry::ShapePtr shape;
+  std::string shape_kind;      // "box", "polygon", ... or "file"
+  std::string shape_key;       // the key messages about the body's geometry point at ("min", "shape", "particles")
+  std::string shape_where;     // "FILE:LINE:COL" of that key
+  int priority = 0;            // where bodies overlap, the higher priority keeps the particles
+  std::vector<RegionConfig> regions;
+  std::shared_ptr<const ParticleTable> particles;  // particles = "FILE"
   std::array<int, 3> particles_per_cell{2, 2, 2};
   Triple velocity{};
   std::array<std::string, 3> velocity_formula;  // when set, replaces velocity[d]: a formula of x, y, z

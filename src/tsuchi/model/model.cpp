@@ -5,6 +5,8 @@
 #include "tsuchi/model/imperfection.hpp"
 #include "tsuchi/model/initial_stress.hpp"
 #include "tsuchi/model/material_state.hpp"
+#include "tsuchi/model/overburden.hpp"
+#include "tsuchi/model/particle_fields.hpp"
 #include "tsuchi/grid/block_schedule.hpp"
 
 #include <fmt/format.h>
@@ -56,7 +58,7 @@ void set_boundary_conditions(const Config& c, Grid<D>& g) {
                                    c.source, s));
 }
 
-GeostaticFrame geostatic_frame(const Config& c, const BodyConfig& b) {
+GeostaticFrame geostatic_frame(const Config& c) {
   GeostaticFrame f;
   for (int d = 0; d < c.dimension; ++d)
     if (c.gravity[d] != 0.0) {
@@ -64,19 +66,39 @@ GeostaticFrame geostatic_frame(const Config& c, const BodyConfig& b) {
       f.up_sign = c.gravity[d] < 0.0 ? 1.0 : -1.0;
       f.g = std::abs(c.gravity[d]);
     }
-  const double top = f.up_sign > 0 ? b.max[f.up_axis] : b.min[f.up_axis];
-  f.surface = b.initial_stress.surface.value_or(top);
   return f;
 }
 
-// Initial stress, imperfection factors, and a check that the start lies inside the yield surface:
-// a state outside would be returned in the first step, a jolt the user did not ask for.
+template <int D>
+geometry::Point point(const Vec<D>& x) {
+  geometry::Point r = geometry::Point::Zero();
+  for (int d = 0; d < D; ++d) r[d] = x[d];
+  return r;
+}
+
+template <int D>
+std::string coordinates(const Vec<D>& x) {
+  std::string at;
+  for (int d = 0; d < D; ++d) at += fmt::format("{}{:.6g}", d ? ", " : "", x[d]);
+  return at;
+}
+
+// "FILE:LINE:COL: key 'bodies.N.KEY'": where messages about a body's geometry point.
+std::string body_key(const Config& c, int body) {
+  const BodyConfig& b = c.bodies[static_cast<std::size_t>(body)];
+  return fmt::format("{}: key 'bodies.{}.{}'", b.shape_where.empty() ? c.source : b.shape_where, body, b.shape_key);
+}
+
+// Initial stress, values read from a particle file, imperfection factors, and a check that the
+// start lies inside the yield surface: a state outside would be returned in the first step, a jolt
+// the user did not ask for.
 template <int D>
 void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m) {
   const BodyConfig& b = c.bodies[body];
-  const Material& mat = c.materials[b.material_index];
   auto& p = m.particles;
-  const GeostaticFrame frame = geostatic_frame(c, b);
+  const GeostaticFrame frame = geostatic_frame(c);
+  const Overburden overburden(c, frame.up_axis, frame.up_sign);
+  const bool k0 = b.initial_stress.kind == InitialStressConfig::Kind::K0;
   ImperfectionField field(b.imperfection);
   const bool imperfect = b.imperfection.amplitude > 0.0 && (b.imperfection.cohesion || b.imperfection.friction);
   // The imperfection scales the strength factors of the material's state (the input reader has
@@ -84,43 +106,80 @@ void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m
   std::vector<double>* c_factor = imperfect ? p.state_column(std::string(field_name::cohesion_factor)) : nullptr;
   std::vector<double>* phi_factor = imperfect ? p.state_column(std::string(field_name::friction_factor)) : nullptr;
   for (std::size_t q = start; q < p.size(); ++q) {
-    p.sigma_p[q] = initial_stress<D>(b.initial_stress, frame, mat.density, p.x_p[q]);
-    if (b.initial_stress.subtract) p.sigma0_p[q] = p.sigma_p[q];
+    double sigma_v = 0.0;
+    if (k0) {
+      const double density = c.materials[static_cast<std::size_t>(p.material_p[q])].density;
+      const geometry::Point x = point<D>(p.x_p[q]);
+      sigma_v = b.initial_stress.surface
+                    ? b.initial_stress.surface_stress -
+                          density * frame.g * frame.up_sign * (*b.initial_stress.surface - x[frame.up_axis])
+                    : column_surcharge(c, body, x) - frame.g * overburden.mass_above(x);
+    }
+    p.sigma_p[q] = initial_stress<D>(b.initial_stress, frame, sigma_v);
     if (imperfect) field.next((*c_factor)[q], (*phi_factor)[q]);
   }
+  // Columns of a particle file: velocity components, stress components, material state.
+  bool file_stress = false;
+  if (b.particles) {
+    const ParticleTable& t = *b.particles;
+    for (std::size_t k = 0; k < t.columns.size(); ++k) {
+      const auto q = find_recorder_quantity(t.columns[k], D);
+      const ParticleField& f = *q->first;
+      const int comp = q->second;
+      std::vector<double>* column = f.quantity == Quantity::State ? p.state_column(f.name) : nullptr;
+      file_stress = file_stress || f.quantity == Quantity::Stress;
+      for (std::size_t i = 0; i < t.x.size(); ++i) {
+        const std::size_t at = start + i;
+        const double v = t.values[k][i];
+        if (f.quantity == Quantity::Velocity) p.v_p[at][comp] = v;
+        else if (f.quantity == Quantity::Stress) p.sigma_p[at][comp] = v;
+        else if (column) (*column)[at] = v;
+      }
+    }
+  }
+  if (b.initial_stress.subtract)
+    for (std::size_t q = start; q < p.size(); ++q) p.sigma0_p[q] = p.sigma_p[q];
   if (b.initial_stress.subtract && b.initial_stress.kind != InitialStressConfig::Kind::None) {
     const auto& t = b.initial_stress.tensor;
     const bool isotropic = b.initial_stress.kind == InitialStressConfig::Kind::Uniform && t[0] == t[1] &&
-                           t[1] == t[2] && t[3] == 0.0 && t[4] == 0.0 && t[5] == 0.0;
+                           t[1] == t[2] && t[3] == 0.0 && t[4] == 0.0 && t[5] == 0.0 && !file_stress;
     m.rotate_initial_stress = m.rotate_initial_stress || !isotropic;
   }
-  if (b.initial_stress.kind == InitialStressConfig::Kind::None) return;
-  std::visit(
-      [&](const auto& model) {
-        using M = std::decay_t<decltype(model)>;
-        const auto cols = state_columns<M>(p);
-        for (std::size_t q = start; q < p.size(); ++q) {
-          const Eigen::Vector3d v = PrincipalFrame<D>(p.sigma_p[q]).values;
-          const Inadmissible beyond = model.outside(v, StateRef{cols.data(), q});
-          if (!beyond.any()) continue;
-          std::string at;
-          for (int d = 0; d < D; ++d) at += fmt::format("{}{:.6g}", d ? ", " : "", p.x_p[q][d]);
-          std::string hint;
-          if constexpr (requires { M::k0_hint; })
-            if (b.initial_stress.kind == InitialStressConfig::Kind::K0) hint = fmt::format("; {}", M::k0_hint);
-          throw InputError(fmt::format(
-              "{}: key 'bodies.{}.initial_stress': the initial stress of body \"{}\" lies outside the {} "
-              "surface of material \"{}\" at ({}): principal stresses {:.6g}, {:.6g}, {:.6g} Pa{}",
-              c.source, body, b.name, beyond.surface, mat.name, at, v[0], v[1], v[2], hint));
-        }
-      },
-      mat.model);
+  if (b.initial_stress.kind == InitialStressConfig::Kind::None && !file_stress) return;
+  // Each particle against its own material (a region may give it another one than the body's).
+  for (std::size_t k = 0; k < c.materials.size(); ++k) {
+    const Material& mat = c.materials[k];
+    std::visit(
+        [&](const auto& model) {
+          using M = std::decay_t<decltype(model)>;
+          const auto cols = state_columns<M>(p);
+          for (std::size_t q = start; q < p.size(); ++q) {
+            if (static_cast<std::size_t>(p.material_p[q]) != k) continue;
+            const Eigen::Vector3d v = PrincipalFrame<D>(p.sigma_p[q]).values;
+            const Inadmissible beyond = model.outside(v, StateRef{cols.data(), q});
+            if (!beyond.any()) continue;
+            std::string hint;
+            if constexpr (requires { M::k0_hint; })
+              if (k0) hint = fmt::format("; {}", M::k0_hint);
+            const std::string key = b.initial_stress.kind == InitialStressConfig::Kind::None
+                                        ? fmt::format("bodies.{}.particles", body)
+                                        : fmt::format("bodies.{}.initial_stress", body);
+            throw InputError(fmt::format(
+                "{}: key '{}': the initial stress of body \"{}\" lies outside the {} surface of material \"{}\" at "
+                "({}): principal stresses {:.6g}, {:.6g}, {:.6g} Pa{}",
+                c.source, key, b.name, beyond.surface, mat.name, coordinates<D>(p.x_p[q]), v[0], v[1], v[2], hint));
+          }
+        },
+        mat.model);
+  }
 }
 
-// The particle lattice of a body: spacing h / n per axis, aligned with the grid.
+// The particle lattice of a body: spacing h / n per axis, aligned with the grid, over the bounds
+// of its shape (clipped to the grid).
 template <int D>
 struct Lattice {
   Vec<D> spacing;
+  Vec<D> lo, hi;  // the bounds it covers
   std::array<int, D> first{}, count{};
   double total = 1;  // a double: the product may not fit an integer (refused by the memory check)
   int empty_axis = -1;
@@ -129,12 +188,15 @@ struct Lattice {
 template <int D>
 Lattice<D> lattice(const BodyConfig& b, const Grid<D>& g) {
   Lattice<D> l;
+  const geometry::Bounds bounds = b.shape->bounds();
   for (int d = 0; d < D; ++d) {
     l.spacing[d] = g.h / b.particles_per_cell[d];
+    l.lo[d] = std::max(bounds.min[d], g.origin[d]);
+    l.hi[d] = std::min(bounds.max[d], g.origin[d] + (g.n_nodes[d] - 1) * g.h);
     // Lattice points origin + (j + 1/2) spacing in [min, max) (a box aligned with the lattice
     // holds exactly its share; the 1e-9 keeps rounding from adding or losing a row).
-    const double lo = (b.min[d] - g.origin[d]) / l.spacing[d] - 0.5;
-    const double hi = (b.max[d] - g.origin[d]) / l.spacing[d] - 0.5;
+    const double lo = (l.lo[d] - g.origin[d]) / l.spacing[d] - 0.5;
+    const double hi = (l.hi[d] - g.origin[d]) / l.spacing[d] - 0.5;
     l.first[d] = static_cast<int>(std::ceil(lo - 1e-9));
     const int last = static_cast<int>(std::floor(hi - 1e-9));
     l.count[d] = std::max(0, last - l.first[d] + 1);
@@ -142,6 +204,16 @@ Lattice<D> lattice(const BodyConfig& b, const Grid<D>& g) {
     if (l.count[d] == 0 && l.empty_axis < 0) l.empty_axis = d;
   }
   return l;
+}
+
+// Whether a shaped body would place a particle at x: inside the half-open bounds of its lattice
+// ([min, max) per axis, so that boxes touching along a face do not both claim a point on it) and
+// inside its shape.
+template <int D>
+bool claims(const BodyConfig& b, const Lattice<D>& l, const Vec<D>& x) {
+  for (int d = 0; d < D; ++d)
+    if (x[d] < l.lo[d] || x[d] >= l.hi[d]) return false;
+  return b.shape->contains(point<D>(x));
 }
 
 // Bytes free for this run: MemAvailable, or the cgroup's limit when lower; 0 when unknown.
@@ -165,11 +237,13 @@ double available_memory() {
 }
 
 // Refuses, before anything is allocated, a model whose memory estimate exceeds what the machine
-// has free: a bad_alloc hours into a set-up, or the OOM killer, says nothing about the cause.
+// has free: a bad_alloc hours into a set-up, or the OOM killer, says nothing about the cause. The
+// particles are counted on the lattice over each shape's bounds: an upper bound.
 template <int D>
 void check_memory(const Config& c, const Grid<D>& g) {
   double particles = 0.0;
-  for (const auto& b : c.bodies) particles += lattice<D>(b, g).total;
+  for (const auto& b : c.bodies)
+    particles += b.shape ? lattice<D>(b, g).total : static_cast<double>(b.particles->x.size());
   const bool affine = c.solver.velocity_transfer == VelocityTransfer::Apic;
   const double bytes = memory_estimate<D>(static_cast<double>(g.size()), particles, affine);
   const double avail = available_memory();
@@ -180,49 +254,134 @@ void check_memory(const Config& c, const Grid<D>& g) {
         c.source, bytes / 1e9, particles, static_cast<double>(g.node_count()), avail / 1e9));
 }
 
-// Fills a box with particles on the lattice of spacing h / n per axis, aligned with the grid, so
-// that each particle stands for an equal share of the cell (the paper's "requirement 1").
+// Where a body's particles go, before any is stored: the lattice points inside its shape less
+// those that a body of higher priority claims (model/model.hpp, docs/input.md "Overlaps"), or the
+// rows of its particle file.
 template <int D>
-void add_body(const Config& c, int body, Model<D>& m) {
-  const BodyConfig& b = c.bodies[body];
-  const Material& mat = c.materials[b.material_index];
-  const Lattice<D> l = lattice<D>(b, m.grid);
-  const Vec<D>& spacing = l.spacing;
-  const auto& first = l.first;
-  const auto& count = l.count;
-  const auto total = static_cast<std::size_t>(l.total);
-  const int empty_axis = l.empty_axis;
-  if (total == 0) {
-    constexpr const char* axis[3] = {"x", "y", "z"};
-    const int d = empty_axis;
-    throw InputError(fmt::format(
-        "{}: key 'bodies.{}': body \"{}\" holds no particle: along {} no particle position (grid.origin + "
-        "(j + 1/2) * {:.6g} m, the spacing cell_size / particles_per_cell) lies in [{:.6g}, {:.6g}); expected a "
-        "box at least one particle spacing thick",
-        c.source, body, b.name, axis[d], spacing[d], b.min[d], b.max[d]));
-  }
-  double volume = 1.0;
-  for (int d = 0; d < D; ++d) volume *= spacing[d];
+struct Placement {
+  std::vector<Vec<D>> x;
+  std::vector<Vec<D>> half;    // GIMP half-widths
+  std::vector<double> volume;
+};
 
+template <int D>
+std::vector<Placement<D>> place_bodies(const Config& c, const Grid<D>& g) {
+  const std::size_t n = c.bodies.size();
+  std::vector<Lattice<D>> lat(n);
+  for (std::size_t b = 0; b < n; ++b)
+    if (c.bodies[b].shape) lat[b] = lattice<D>(c.bodies[b], g);
+  // Which other bodies' bounds meet body b's: the only ones that can claim its points.
+  auto meet = [&](std::size_t a, std::size_t b) {
+    for (int d = 0; d < D; ++d)
+      if (lat[a].hi[d] <= lat[b].lo[d] || lat[b].hi[d] <= lat[a].lo[d]) return false;
+    return true;
+  };
+  std::vector<Placement<D>> out(n);
+  for (std::size_t b = 0; b < n; ++b) {
+    const BodyConfig& bc = c.bodies[b];
+    Placement<D>& pl = out[b];
+    if (!bc.shape) {
+      const ParticleTable& t = *bc.particles;
+      for (std::size_t i = 0; i < t.x.size(); ++i) {
+        Vec<D> x;
+        for (int d = 0; d < D; ++d) x[d] = t.x[i][static_cast<std::size_t>(d)];
+        pl.x.push_back(x);
+        // A cube of the particle's volume: l_p = V^(1/D) / 2 per axis.
+        pl.half.push_back(Vec<D>::Constant(0.5 * std::pow(t.volume[i], 1.0 / D)));
+        pl.volume.push_back(t.volume[i]);
+      }
+      continue;
+    }
+    const Lattice<D>& l = lat[b];
+    if (l.total == 0) {
+      constexpr const char* axis[3] = {"x", "y", "z"};
+      const int d = l.empty_axis;
+      throw InputError(fmt::format(
+          "{}: key 'bodies.{}': body \"{}\" holds no particle: along {} no particle position (grid.origin + "
+          "(j + 1/2) * {:.6g} m, the spacing cell_size / particles_per_cell) lies in [{:.6g}, {:.6g}); expected a "
+          "{} at least one particle spacing thick",
+          c.source, b, bc.name, axis[d], l.spacing[d], l.lo[d], l.hi[d], bc.shape_kind == "box" ? "box" : "shape"));
+    }
+    std::vector<std::size_t> rivals;
+    for (std::size_t o = 0; o < n; ++o)
+      if (o != b && c.bodies[o].shape && meet(b, o)) rivals.push_back(o);
+    double volume = 1.0;
+    for (int d = 0; d < D; ++d) volume *= l.spacing[d];
+    const auto total = static_cast<std::size_t>(l.total);
+    std::size_t inside = 0;
+    int lost_to = -1;
+    std::array<int, D> j{};
+    for (std::size_t k = 0; k < total; ++k) {
+      std::size_t rest = k;
+      for (int d = 0; d < D; ++d) {
+        j[d] = l.first[d] + static_cast<int>(rest % static_cast<std::size_t>(l.count[d]));
+        rest /= static_cast<std::size_t>(l.count[d]);
+      }
+      Vec<D> x;
+      for (int d = 0; d < D; ++d) x[d] = g.origin[d] + (j[d] + 0.5) * l.spacing[d];
+      if (!bc.shape->contains(point<D>(x))) continue;
+      ++inside;
+      bool keep = true;
+      for (const std::size_t o : rivals) {
+        const BodyConfig& oc = c.bodies[o];
+        if (!claims<D>(oc, lat[o], x)) continue;
+        if (oc.priority == bc.priority) {
+          // Reported at the later of the two bodies, as the input is read.
+          const std::size_t later = std::max(b, o), earlier = std::min(b, o);
+          throw InputError(fmt::format(
+              "{}: body \"{}\" overlaps body \"{}\" at ({}); expected bodies that share no particle, or a different "
+              "'priority' (the higher keeps the particles where they overlap)",
+              body_key(c, static_cast<int>(later)), c.bodies[later].name, c.bodies[earlier].name, coordinates<D>(x)));
+        }
+        if (oc.priority > bc.priority) {
+          keep = false;
+          lost_to = static_cast<int>(o);
+          break;
+        }
+      }
+      if (!keep) continue;
+      pl.x.push_back(x);
+      pl.half.push_back(0.5 * l.spacing);
+      pl.volume.push_back(volume);
+    }
+    if (pl.x.empty())
+      throw InputError(fmt::format(
+          "{}: body \"{}\" holds no particle: {}; expected a shape that holds at least one particle position (grid.origin + "
+          "(j + 1/2) * cell_size / particles_per_cell along each axis)",
+          body_key(c, static_cast<int>(b)), bc.name,
+          inside == 0 ? "no particle position lies inside its shape"
+                      : fmt::format("every one of its {} particle positions lies in body \"{}\" of higher priority", inside,
+                                    c.bodies[static_cast<std::size_t>(lost_to)].name)));
+  }
+  return out;
+}
+
+// Stores a body's particles: each stands for its lattice share of the cell (the paper's
+// "requirement 1") or its row of the particle file; its material is the body's, or that of the
+// last of the body's regions holding it.
+template <int D>
+void add_body(const Config& c, int body, const Placement<D>& pl, Model<D>& m) {
+  const BodyConfig& b = c.bodies[body];
+  const std::size_t total = pl.x.size();
   auto& p = m.particles;
   const std::size_t start = p.size();
   p.resize(start + total);
   Vec<D> v0;
   for (int d = 0; d < D; ++d) v0[d] = b.velocity[d];
-  std::size_t k = start;
-  std::array<int, D> j{};
-  for (std::size_t n = 0; n < total; ++n, ++k) {
-    std::size_t rest = n;
-    for (int d = 0; d < D; ++d) {
-      j[d] = first[d] + static_cast<int>(rest % static_cast<std::size_t>(count[d]));
-      rest /= static_cast<std::size_t>(count[d]);
-    }
-    for (int d = 0; d < D; ++d) p.x_p[k][d] = m.grid.origin[d] + (j[d] + 0.5) * spacing[d];
-    p.l_p[k] = 0.5 * spacing;
+  for (std::size_t n = 0; n < total; ++n) {
+    const std::size_t k = start + n;
+    p.x_p[k] = pl.x[n];
+    p.l_p[k] = pl.half[n];
     p.v_p[k] = v0;
-    p.V_p[k] = volume;
-    p.m_p[k] = mat.density * volume;
-    p.material_p[k] = b.material_index;
+    p.V_p[k] = pl.volume[n];
+    int material = b.material_index;
+    if (!b.regions.empty()) {
+      const geometry::Point x = point<D>(pl.x[n]);
+      for (const auto& r : b.regions)
+        if (r.shape->contains(x)) material = r.material_index;
+    }
+    p.m_p[k] = c.materials[static_cast<std::size_t>(material)].density * pl.volume[n];
+    p.material_p[k] = material;
     p.body_p[k] = body;
     p.id_p[k] = static_cast<std::int64_t>(k);
   }
@@ -241,6 +400,9 @@ void add_body(const Config& c, int body, Model<D>& m) {
     }
   }
   m.body_particles.push_back(total);
+  double volume = 0.0;
+  for (const double v : pl.volume) volume += v;
+  m.body_volume.push_back(volume);
   set_initial_state(c, body, start, m);
 
   BodyMotion<D> motion;
@@ -301,7 +463,8 @@ Model<D> build_model(const Config& c) {
   check_memory<D>(c, m.grid);
   m.grid.allocate();
   set_boundary_conditions(c, m.grid);
-  for (int b = 0; b < static_cast<int>(c.bodies.size()); ++b) add_body(c, b, m);
+  const std::vector<Placement<D>> placed = place_bodies<D>(c, m.grid);
+  for (int b = 0; b < static_cast<int>(c.bodies.size()); ++b) add_body<D>(c, b, placed[static_cast<std::size_t>(b)], m);
 
   // Store the particles in the order the block scatter visits them: neighbours in space are then
   // neighbours in memory, which every stage of the step gains from.

@@ -35,6 +35,7 @@ struct Model {
   Particles<D> particles;
   std::vector<BodyMotion<D>> motion;        // one per body
   std::vector<std::size_t> body_particles;  // particle count per body
+  std::vector<double> body_volume;          // initial volume per body (m^3; m^2 in 2D)
   bool rotate_initial_stress = false;       // some body holds an anisotropic sigma0 by eq (2)
 
   std::size_t bytes() const { return grid.bytes() + particles.size() * particles.bytes_per_particle(); }

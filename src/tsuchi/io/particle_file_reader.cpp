@@ -1,0 +1,306 @@
+#include "tsuchi/io/particle_file_reader.hpp"
+
+#include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/toml_section.hpp"
+#include "tsuchi/model/particle_fields.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace tsuchi::io {
+
+namespace {
+
+// "(named by key 'bodies.1.particles' at input.toml:12:13)": every message ends with the key.
+std::string named_by(const ParticleFileRequest& r) {
+  return fmt::format(" (the file of key '{}' at {})", r.key, r.key_where);
+}
+
+[[noreturn]] void fail(const ParticleFileRequest& r, const std::string& at, const std::string& msg) {
+  throw InputError(fmt::format("{}: {}{}", at, msg, named_by(r)));
+}
+
+std::string read_whole(const ParticleFileRequest& r) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(r.path, ec))
+    throw InputError(fmt::format("{}: key '{}': expected a particle file (.csv or a tsuchi .vtu frame), got \"{}\", "
+                                 "which is not a readable regular file",
+                                 r.key_where, r.key, printable(r.path)));
+  std::ifstream in(r.path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (!in) throw InputError(fmt::format("{}: key '{}': cannot read \"{}\"", r.key_where, r.key, printable(r.path)));
+  return s.str();
+}
+
+// The particle field component a column names, when a file may set it: velocity, stress and the
+// material state (checked against the registry, model/particle_fields.hpp).
+bool settable(const std::string& name, int dim) {
+  const auto q = find_recorder_quantity(name, dim);
+  if (!q) return false;
+  const Quantity k = q->first->quantity;
+  return k == Quantity::Velocity || k == Quantity::Stress || k == Quantity::State;
+}
+
+std::vector<std::string> settable_names(int dim) {
+  std::vector<std::string> r;
+  for (const auto& n : recorder_quantities(dim))
+    if (settable(n, dim)) r.push_back(n);
+  return r;
+}
+
+void check_inside(const ParticleFileRequest& r, const ParticleTable& t, std::size_t row) {
+  for (int d = 0; d < r.dimension; ++d) {
+    const double lo = r.grid.origin[d], hi = lo + r.grid.extent[d], x = t.x[row][d];
+    if (!(x > lo && x < hi))
+      fail(r, t.where[row],
+           fmt::format("particle at {} = {} lies outside the grid, which spans [{}, {}] along {}", axis_name[d], x, lo, hi,
+                       axis_name[d]));
+  }
+}
+
+std::string trim(std::string_view s) {
+  std::size_t a = 0, b = s.size();
+  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
+  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
+  return std::string(s.substr(a, b - a));
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> r;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    r.push_back(trim(std::string_view(line).substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return r;
+}
+
+// CSV: a header row naming the columns, then one particle per row. Blank lines and lines starting
+// with '#' are skipped.
+std::shared_ptr<const ParticleTable> read_csv(const ParticleFileRequest& r, const std::string& text) {
+  auto t = std::make_shared<ParticleTable>();
+  t->file = r.path;
+  const int dim = r.dimension;
+  std::istringstream in(text);
+  std::string line;
+  int line_no = 0;
+  std::vector<std::string> header;
+  int header_line = 0;
+  // Column index of each role.
+  std::array<int, 3> xi{-1, -1, -1};
+  int volume = -1, size = -1;
+  std::vector<int> field_col;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const std::string trimmed = trim(line);
+    if (trimmed.empty() || trimmed[0] == '#') continue;
+    const std::string at = fmt::format("{}:{}", r.path, line_no);
+    if (header.empty()) {
+      header = split(trimmed);
+      header_line = line_no;
+      for (std::size_t k = 0; k < header.size(); ++k) {
+        const std::string& h = header[k];
+        const auto col = static_cast<int>(k);
+        auto once = [&](int& slot) {
+          if (slot >= 0) fail(r, at, fmt::format("column '{}' appears twice in the header", printable(h)));
+          slot = col;
+        };
+        if (h == "x" || h == "y" || (h == "z" && dim == 3)) once(xi[static_cast<std::size_t>(h[0] - 'x')]);
+        else if (h == "volume") once(volume);
+        else if (h == "size") once(size);
+        else if (settable(h, dim)) {
+          for (const auto& c : t->columns)
+            if (c == h) fail(r, at, fmt::format("column '{}' appears twice in the header", h));
+          t->columns.push_back(h);
+          field_col.push_back(col);
+        } else {
+          fail(r, at, fmt::format("unknown column '{}' in the header; expected x, y{}, volume or size, and optionally "
+                                  "particle fields: {}",
+                                  printable(h), dim == 3 ? ", z" : "", quoted_list(settable_names(dim))));
+        }
+      }
+      for (int d = 0; d < dim; ++d)
+        if (xi[static_cast<std::size_t>(d)] < 0)
+          fail(r, at, fmt::format("the header has no column '{}': expected the columns x, y{} and volume (or size)",
+                                  axis_name[d], dim == 3 ? ", z" : ""));
+      if (volume < 0 && size < 0)
+        fail(r, at, "the header has no column 'volume' (m^3, m^2 per metre in 2D) or 'size' (the particle's edge, m)");
+      if (volume >= 0 && size >= 0) fail(r, at, "the header has both 'volume' and 'size'; give one");
+      t->values.assign(t->columns.size(), {});
+      continue;
+    }
+    const std::vector<std::string> cells = split(trimmed);
+    if (cells.size() != header.size())
+      fail(r, at, fmt::format("expected {} values as in the header (line {}), got {}", header.size(), header_line,
+                              cells.size()));
+    auto number = [&](int col) {
+      const std::string& cell = cells[static_cast<std::size_t>(col)];
+      char* end = nullptr;
+      const double v = std::strtod(cell.c_str(), &end);
+      if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(v))
+        fail(r, at, fmt::format("column '{}': expected a finite number, got \"{}\"", header[static_cast<std::size_t>(col)],
+                                printable(cell)));
+      return v;
+    };
+    Triple x{};
+    for (int d = 0; d < dim; ++d) x[static_cast<std::size_t>(d)] = number(xi[static_cast<std::size_t>(d)]);
+    double v = 0.0;
+    if (volume >= 0) v = number(volume);
+    else v = std::pow(number(size), dim);
+    if (!(v > 0.0))
+      fail(r, at, fmt::format("column '{}': expected a positive value, got {}", volume >= 0 ? "volume" : "size",
+                              cells[static_cast<std::size_t>(volume >= 0 ? volume : size)]));
+    t->x.push_back(x);
+    t->volume.push_back(v);
+    t->where.push_back(at);
+    for (std::size_t k = 0; k < field_col.size(); ++k) t->values[k].push_back(number(field_col[k]));
+    check_inside(r, *t, t->x.size() - 1);
+  }
+  if (header.empty()) fail(r, r.path, "the file is empty; expected a header row (x, y, volume, ...) and one row per particle");
+  if (t->x.empty()) fail(r, r.path, "the file has a header but no particle row");
+  return t;
+}
+
+// The value of attribute `name` in the XML tag `tag`, or "".
+std::string attribute(std::string_view tag, std::string_view name) {
+  const std::string key = fmt::format(" {}=\"", name);
+  const std::size_t a = tag.find(key);
+  if (a == std::string_view::npos) return {};
+  const std::size_t b = tag.find('"', a + key.size());
+  return std::string(tag.substr(a + key.size(), b - a - key.size()));
+}
+
+// A frame of our own writer (io/vtu_writer.cpp): an XML header whose DataArrays point by offset
+// into one appended raw block, each array a UInt64 byte count followed by the little-endian data.
+std::shared_ptr<const ParticleTable> read_vtu(const ParticleFileRequest& r, const std::string& text) {
+  auto refuse = [&](const std::string& why) {
+    fail(r, r.path, fmt::format("not a particle frame written by tsuchi ({}); expected a .vtu of its output directory", why));
+  };
+  const std::size_t appended = text.find("<AppendedData encoding=\"raw\">");
+  if (text.find("type=\"UnstructuredGrid\"") == std::string::npos || appended == std::string::npos ||
+      text.find("header_type=\"UInt64\"") == std::string::npos || text.find("byte_order=\"LittleEndian\"") == std::string::npos)
+    refuse("an UnstructuredGrid with UInt64 headers and raw appended data");
+  const std::size_t base = text.find('_', appended);
+  if (base == std::string::npos) refuse("no '_' opening the appended data");
+  const std::string_view head(text.data(), appended);
+  const std::size_t npos = head.find("NumberOfPoints=\"");
+  if (npos == std::string::npos) refuse("no NumberOfPoints");
+  const std::size_t n = std::strtoull(text.c_str() + npos + 16, nullptr, 10);
+
+  struct Array {
+    std::string name, type;
+    int components = 1;
+    const char* data = nullptr;
+  };
+  std::vector<Array> arrays;
+  const Array* points = nullptr;
+  const std::size_t points_at = head.find("<Points>");
+  for (std::size_t at = head.find("<DataArray"); at != std::string::npos; at = head.find("<DataArray", at + 1)) {
+    const std::size_t end = head.find('>', at);
+    const std::string_view tag = head.substr(at, end - at);
+    if (attribute(tag, "format") != "appended") continue;  // the body names (FieldData, ascii)
+    Array a;
+    a.name = attribute(tag, "Name");
+    a.type = attribute(tag, "type");
+    a.components = std::atoi(attribute(tag, "NumberOfComponents").c_str());
+    const std::size_t offset = std::strtoull(attribute(tag, "offset").c_str(), nullptr, 10);
+    const std::size_t bytes_at = base + 1 + offset;
+    std::uint64_t bytes = 0;
+    if (bytes_at + sizeof bytes > text.size()) refuse(fmt::format("array \"{}\" points past the end", a.name));
+    std::memcpy(&bytes, text.data() + bytes_at, sizeof bytes);
+    const std::size_t width = a.type == "Float64" || a.type == "Int64" ? 8 : a.type == "Int32" ? 4 : 1;
+    if (a.components < 1 || bytes != n * static_cast<std::size_t>(a.components) * width ||
+        bytes_at + sizeof bytes + bytes > text.size())
+      refuse(fmt::format("array \"{}\" has {} bytes, not {} points of {} components", a.name, bytes, n, a.components));
+    a.data = text.data() + bytes_at + sizeof bytes;
+    arrays.push_back(a);
+    if (points_at != std::string::npos && at > points_at && a.name.empty()) points = &arrays.back();
+    if (points_at != std::string::npos && at > points_at) break;  // the cells follow
+  }
+  if (!points || points->type != "Float64" || points->components != 3) refuse("no Float64 Points of 3 components");
+  auto value = [](const Array& a, std::size_t i, int c) {
+    double v = 0.0;
+    const std::size_t k = i * static_cast<std::size_t>(a.components) + static_cast<std::size_t>(c);
+    if (a.type == "Float64") std::memcpy(&v, a.data + 8 * k, 8);
+    else if (a.type == "Int64") {
+      std::int64_t w;
+      std::memcpy(&w, a.data + 8 * k, 8);
+      v = static_cast<double>(w);
+    } else if (a.type == "Int32") {
+      std::int32_t w;
+      std::memcpy(&w, a.data + 4 * k, 4);
+      v = w;
+    } else {
+      v = static_cast<unsigned char>(a.data[k]);
+    }
+    return v;
+  };
+  const Array* volume = nullptr;
+  for (const auto& a : arrays)
+    if (a.name == "volume") volume = &a;
+  if (!volume)
+    fail(r, r.path, "the frame has no \"volume\" field, which a particle needs; write frames with output.fields "
+                    "holding \"volume\" (with \"stress\", \"velocity\" and the material state to carry them over)");
+  auto t = std::make_shared<ParticleTable>();
+  t->file = r.path;
+  const int dim = r.dimension;
+  // Columns: every frame field a file may set, by component (velocity only when asked for).
+  std::vector<std::pair<const Array*, int>> source;
+  for (const auto& a : arrays) {
+    const ParticleField* f = a.name.empty() ? nullptr : find_particle_field(a.name);
+    if (!f) continue;
+    if (f->quantity == Quantity::Stress) {
+      const char* voigt[6] = {"xx", "yy", "zz", "xy", "yz", "xz"};  // the frame's order, ours too
+      for (int c = 0; c < (dim == 2 ? 4 : 6); ++c) {
+        t->columns.push_back(fmt::format("stress_{}", voigt[c]));
+        source.emplace_back(&a, c);
+      }
+    } else if (f->quantity == Quantity::Velocity && r.keep_velocity) {
+      for (int c = 0; c < dim; ++c) {
+        t->columns.push_back(fmt::format("velocity_{}", axis_name[c]));
+        source.emplace_back(&a, c);
+      }
+    } else if (f->quantity == Quantity::State) {
+      t->columns.push_back(a.name);
+      source.emplace_back(&a, 0);
+    }
+  }
+  t->values.assign(t->columns.size(), std::vector<double>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    Triple x{};
+    for (int d = 0; d < dim; ++d) x[static_cast<std::size_t>(d)] = value(*points, i, d);
+    t->x.push_back(x);
+    t->volume.push_back(value(*volume, i, 0));
+    t->where.push_back(fmt::format("{}: point {}", r.path, i));
+    if (!(t->volume.back() > 0.0) || !std::isfinite(t->volume.back()))
+      fail(r, t->where.back(), fmt::format("expected a positive volume, got {}", t->volume.back()));
+    for (std::size_t k = 0; k < source.size(); ++k) t->values[k][i] = value(*source[k].first, i, source[k].second);
+    check_inside(r, *t, i);
+  }
+  if (n == 0) fail(r, r.path, "the frame holds no particle");
+  return t;
+}
+
+}  // namespace
+
+std::shared_ptr<const ParticleTable> read_particle_file(const ParticleFileRequest& r) {
+  const std::string text = read_whole(r);
+  const std::string ext = std::filesystem::path(r.path).extension().string();
+  if (ext == ".vtu") return read_vtu(r, text);
+  if (ext == ".csv") return read_csv(r, text);
+  throw InputError(fmt::format("{}: key '{}': expected a file ending in .csv or .vtu, got \"{}\"", r.key_where, r.key,
+                               printable(r.path)));
+}
+
+}  // namespace tsuchi::io

@@ -4,6 +4,7 @@
 #include "tsuchi/core/expression.hpp"
 #include "tsuchi/model/particle_fields.hpp"
 
+#include "tsuchi/io/function_reader.hpp"
 #include "tsuchi/io/material_reader.hpp"
 #include "tsuchi/io/particle_file_reader.hpp"
 #include "tsuchi/io/shape_reader.hpp"
@@ -35,6 +36,7 @@ void read_model(Section& s, Config& c) {
   if (c.dimension == 0) s.need("dimension", "2 (plane strain) or 3");
   c.title = s.one_line("title", "a title", std::string{});
   c.gravity = s.vector("gravity", c.dimension, "m/s^2", any, Triple{});
+  c.gravity_function = read_function_ref(s, "gravity_function", c);
   s.finish();
 }
 
@@ -537,6 +539,8 @@ Config read_document(const toml::table& root, const std::string& file) {
   Config c;
   c.source = file;
   Section top(root, "", file);
+  // Functions first: any table may refer to one by name.
+  read_functions(top, c);
   const toml::table* model = top.table("model");
   if (!model) top.need("model", "a [model] table with 'dimension'");
   Section ms(*model, "model", file);
@@ -609,6 +613,7 @@ Config read_document(const toml::table& root, const std::string& file) {
   }
   top.finish();
   c.fingerprint = fingerprint(root);
+  for (const std::uint64_t d : c.file_digests) c.fingerprint = (c.fingerprint ^ d) * 1099511628211ull;
   return c;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 // The whole input of a run as a typed, validated value. Read from a TOML file by
 // io/config_reader.hpp; vectors have `dimension` meaningful entries (the third is 0 in 2D).
+#include "tsuchi/core/time_function.hpp"
 #include "tsuchi/geometry/shape.hpp"
 #include "tsuchi/material/material.hpp"
 
@@ -27,6 +28,13 @@ enum class VelocityTransfer { Flip, Apic };
 // centre of the background cell holding it (mean dilatation per cell); or the volume-weighted
 // average of the particles' increments through the nodes (F-bar by P2G/G2P averaging).
 enum class AntiLocking { None, Cell, Node };
+
+// A named function of time from the input's [[functions]]: loads refer to it by name and are
+// multiplied by it (core/time_function.hpp).
+struct FunctionConfig {
+  std::string name;
+  TimeFunction f;
+};
 
 struct GridConfig {
   Triple origin{};
@@ -203,6 +211,8 @@ struct Config {
   std::string title;
   int dimension = 2;
   Triple gravity{};
+  int gravity_function = -1;  // index in functions: gravity(t) = gravity f(t); -1: constant
+  std::vector<FunctionConfig> functions;
   GridConfig grid;
   std::vector<Material> materials;
   // Per material, materials.N.anti_locking where given; otherwise solver.anti_locking holds.
@@ -218,6 +228,9 @@ struct Config {
   // checkpoint schedule, time step choice, stop bounds or title): a checkpoint restarts only a
   // configuration with the same fingerprint.
   std::uint64_t fingerprint = 0;
+  // Digests of the data files the input names (records, surfaces, particle files), folded into the
+  // fingerprint: a restart with a changed record is a different run.
+  std::vector<std::uint64_t> file_digests;
   // Valid values that look like a slip of units ("FILE:LINE:COL: key '...': ..."); printed, not refused.
   std::vector<std::string> warnings;
 };

@@ -445,6 +445,7 @@ Model<D> build_model(const Config& c) {
   m.step.hold_released_volume = c.solver.hold_released_volume;
   m.step.damping = c.solver.damping;
   for (int d = 0; d < D; ++d) m.step.gravity[d] = c.gravity[d];
+  if (c.gravity_function >= 0) m.step.gravity_function = c.functions[static_cast<std::size_t>(c.gravity_function)].f;
   m.step.sort_interval = c.solver.sort_interval;
   declare_state_columns(m.particles);
   m.particles.affine = c.solver.velocity_transfer == VelocityTransfer::Apic;

@@ -20,6 +20,7 @@ struct StepSettings {
   bool hold_released_volume = true;       // see SolverConfig
   double damping = 0.0;            // Cundall local damping coefficient alpha, eq (20)
   Vec<D> gravity = Vec<D>::Zero();
+  TimeFunction gravity_function;   // gravity at time t is gravity * gravity_function(t)
   double node_mass_floor = 0.0;    // nodes lighter than this are skipped (kg)
   std::int64_t sort_interval = 0;  // particles re-stored in block order every this many steps (0: never)
 

@@ -46,6 +46,8 @@ template <int D>
 template <class Kernel, VelocityTransfer How>
 void ExplicitSolver<D>::step_with(double dt) {
   auto& g = m_.grid;
+  // The loads of this step are taken at its start (the explicit update of eq 4 uses f at t_n).
+  gravity_ = m_.step.gravity * m_.step.gravity_function(time_);
   // Blocks coloured for the kernel's reach; every stage below uses the start-of-step positions.
   constexpr auto reach = BlockSchedule<D>::template reach_of<Kernel>();
   schedule_.build(g, m_.particles.x_p, reach);
@@ -154,7 +156,7 @@ void ExplicitSolver<D>::p2g() {
   if constexpr (What == Scatter::All) zero_nodal(schedule_, n.m, n.p, n.f);
   else if constexpr (What == Scatter::MassMomentum) zero_nodal(schedule_, n.m, n.p);
   else zero_nodal(schedule_, n.f);
-  const Vec<D> b = m_.step.gravity;
+  const Vec<D> b = gravity_;
   // What a row of the stencil spreads along x (stencil.hpp): with c_d the columns of -V sigma,
   // node (a, r) gets m wx[a] T, mv wx[a] T and
   //   f = S mb + sum_d G_d c_d = wx[a] (T mb + sum_{d>0} dT_d c_d) + dwx[a] T c_0.
@@ -725,7 +727,7 @@ double ExplicitSolver<D>::unbalanced_force_ratio() const {
   const auto& fixed = m_.grid.fixed_g;
   const auto& tiles = schedule_.active_tiles();
   const double floor = m_.step.node_mass_floor;
-  const Vec<D> b = m_.step.gravity;
+  const Vec<D> b = gravity_;
   const bool held = drives_bodies();
   if (held) {
     switch (m_.step.kernel) {

@@ -109,6 +109,7 @@ class ExplicitSolver {
   std::int64_t nonfinite_ = -1; // first particle with a NaN or Inf stress, velocity or volume
   std::int64_t released_ = 0;  // released_particles()
   double step_dt_ = 0.0;       // length of the latest step
+  Vec<D> gravity_ = Vec<D>::Zero();  // gravity of the latest step: StepSettings::gravity times its function
   bool undamped_driven_ = false;  // this step's driven_ marks exempt held components from damping
   std::vector<Vec<D>> held_impulse_;  // per particle of a prescribed body: m (v_held - v_free) of the latest step
   bool stepped_ = false;                     // a step ran in this process: the grid holds its solve

@@ -1,0 +1,36 @@
+#pragma once
+// A function of time f(t) that scales a load: a prescribed velocity, a traction, gravity, a body
+// force or a base motion is its value times f(t) (the input's [[functions]], docs/input.md).
+// f = 1 when none is given. A table is interpolated linearly between its points and holds its first
+// value before the first time and its last value after the last one (a record that has ended leaves
+// its last value, so an acceleration record should end at 0); a formula is any expression of t.
+#include "tsuchi/core/expression.hpp"
+
+#include <memory>
+#include <vector>
+
+namespace tsuchi {
+
+class TimeFunction {
+ public:
+  TimeFunction() = default;  // f(t) = 1
+  // Times strictly increasing (the input reader checks it), at least one point.
+  static TimeFunction table(std::vector<double> times, std::vector<double> values);
+  static TimeFunction formula(std::shared_ptr<const Expression> of_time);
+
+  bool is_one() const { return kind_ == Kind::One; }
+  double operator()(double t) const;
+  // The integral of f over [a, b]: exact for a table (trapezoids between its points, so that a
+  // velocity integrated from an acceleration record is the record's own integral however the time
+  // steps fall), five-point Gauss-Legendre per piece for a formula (exact for polynomials of degree 9
+  // over pieces no longer than a fiftieth of [a, b]).
+  double integral(double a, double b) const;
+
+ private:
+  enum class Kind { One, Table, Formula };
+  Kind kind_ = Kind::One;
+  std::vector<double> t_, v_;
+  std::shared_ptr<const Expression> f_;
+};
+
+}  // namespace tsuchi

@@ -1,4 +1,5 @@
 #include "tsuchi/io/config_reader.hpp"
+#include "tsuchi/io/csv_table.hpp"
 
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/expression.hpp"
@@ -221,19 +222,20 @@ void read_body_shape(Section& s, const Config& c, BodyConfig& b, const std::stri
 }
 
 // particles = "FILE": a CSV table or a tsuchi .vtu frame (io/particle_file_reader.hpp).
-void read_particle_source(Section& s, const Config& c, BodyConfig& b, const std::string& directory) {
+void read_particle_source(Section& s, Config& c, BodyConfig& b, const std::string& directory) {
   for (const char* k : {"shape", "min", "max", "particles_per_cell"})
     if (s.has(k))
       s.fail(k, fmt::format("expected either particles from a file ('particles') or a shape, not both: remove '{}'", k));
   ParticleFileRequest r;
   const std::string file = s.string("particles", "the name of a .csv or .vtu file of particles");
-  r.path = std::filesystem::path(file).is_absolute() || directory.empty() ? file : (std::filesystem::path(directory) / file).string();
+  r.path = data_path(file, directory);
   r.key = s.key_path("particles");
   r.key_where = where(s.file(), s.get("particles")->source());
   r.dimension = c.dimension;
   r.grid = c.grid;
   r.keep_velocity = s.boolean("keep_velocity", false);
   b.particles = read_particle_file(r);
+  c.file_digests.push_back(b.particles->digest);  // a restart checks the particles too
   b.shape_kind = "file";
   b.shape_key = "particles";
   b.shape_where = r.key_where;
@@ -249,7 +251,7 @@ void read_body(Section& s, Config& c, std::size_t index) {
   b.material_index = material_index(s, c, b.material);
   b.priority = static_cast<int>(s.integer("priority", "a whole number (where bodies overlap, the higher keeps the particles)",
                                           [](std::int64_t v) { return v >= -1000000 && v <= 1000000; }, 0));
-  const std::string directory = std::filesystem::path(c.source).parent_path().string();
+  const std::string directory = input_directory(c.source);
   if (s.has("particles")) {
     read_particle_source(s, c, b, directory);
   } else {

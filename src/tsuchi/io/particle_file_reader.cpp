@@ -1,6 +1,7 @@
 #include "tsuchi/io/particle_file_reader.hpp"
 
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/csv_table.hpp"
 #include "tsuchi/io/toml_section.hpp"
 #include "tsuchi/model/particle_fields.hpp"
 
@@ -18,13 +19,9 @@ namespace tsuchi::io {
 
 namespace {
 
-// "(named by key 'bodies.1.particles' at input.toml:12:13)": every message ends with the key.
-std::string named_by(const ParticleFileRequest& r) {
-  return fmt::format(" (the file of key '{}' at {})", r.key, r.key_where);
-}
-
+// "INPUT:LINE:COL: key 'bodies.1.particles': FILE:LINE: msg", as io/csv_table.hpp words its errors.
 [[noreturn]] void fail(const ParticleFileRequest& r, const std::string& at, const std::string& msg) {
-  throw InputError(fmt::format("{}: {}{}", at, msg, named_by(r)));
+  throw InputError(fmt::format("{}: key '{}': {}: {}", r.key_where, r.key, at, msg));
 }
 
 std::string read_whole(const ParticleFileRequest& r) {
@@ -66,109 +63,52 @@ void check_inside(const ParticleFileRequest& r, const ParticleTable& t, std::siz
   }
 }
 
-std::string trim(std::string_view s) {
-  std::size_t a = 0, b = s.size();
-  while (a < b && std::isspace(static_cast<unsigned char>(s[a]))) ++a;
-  while (b > a && std::isspace(static_cast<unsigned char>(s[b - 1]))) --b;
-  return std::string(s.substr(a, b - a));
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> r;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', start);
-    r.push_back(trim(std::string_view(line).substr(start, comma == std::string::npos ? std::string::npos : comma - start)));
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  return r;
-}
-
-// CSV: a header row naming the columns, then one particle per row. Blank lines and lines starting
-// with '#' are skipped.
-std::shared_ptr<const ParticleTable> read_csv(const ParticleFileRequest& r, const std::string& text) {
+// CSV (io/csv_table.hpp): a header row naming the columns, then one particle per row.
+std::shared_ptr<const ParticleTable> read_csv(const ParticleFileRequest& r) {
+  const CsvTable csv = read_csv_table(r.path, "", fmt::format("{}: key '{}'", r.key_where, r.key));
   auto t = std::make_shared<ParticleTable>();
   t->file = r.path;
+  t->digest = csv.digest;
   const int dim = r.dimension;
-  std::istringstream in(text);
-  std::string line;
-  int line_no = 0;
-  std::vector<std::string> header;
-  int header_line = 0;
-  // Column index of each role.
+  const std::string header = fmt::format("{}: header", csv.file);
   std::array<int, 3> xi{-1, -1, -1};
-  int volume = -1, size = -1;
   std::vector<int> field_col;
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    const std::string trimmed = trim(line);
-    if (trimmed.empty() || trimmed[0] == '#') continue;
-    const std::string at = fmt::format("{}:{}", r.path, line_no);
-    if (header.empty()) {
-      header = split(trimmed);
-      header_line = line_no;
-      for (std::size_t k = 0; k < header.size(); ++k) {
-        const std::string& h = header[k];
-        const auto col = static_cast<int>(k);
-        auto once = [&](int& slot) {
-          if (slot >= 0) fail(r, at, fmt::format("column '{}' appears twice in the header", printable(h)));
-          slot = col;
-        };
-        if (h == "x" || h == "y" || (h == "z" && dim == 3)) once(xi[static_cast<std::size_t>(h[0] - 'x')]);
-        else if (h == "volume") once(volume);
-        else if (h == "size") once(size);
-        else if (settable(h, dim)) {
-          for (const auto& c : t->columns)
-            if (c == h) fail(r, at, fmt::format("column '{}' appears twice in the header", h));
-          t->columns.push_back(h);
-          field_col.push_back(col);
-        } else {
-          fail(r, at, fmt::format("unknown column '{}' in the header; expected x, y{}, volume or size, and optionally "
-                                  "particle fields: {}",
+  for (std::size_t k = 0; k < csv.names.size(); ++k) {
+    const std::string& h = csv.names[k];
+    if (h == "x" || h == "y" || (h == "z" && dim == 3)) xi[static_cast<std::size_t>(h[0] - 'x')] = static_cast<int>(k);
+    else if (h == "volume" || h == "size") continue;
+    else if (settable(h, dim)) {
+      t->columns.push_back(h);
+      field_col.push_back(static_cast<int>(k));
+    } else {
+      fail(r, header, fmt::format("unknown column \"{}\"; expected x, y{}, volume or size, and optionally particle "
+                                  "fields: {}",
                                   printable(h), dim == 3 ? ", z" : "", quoted_list(settable_names(dim))));
-        }
-      }
-      for (int d = 0; d < dim; ++d)
-        if (xi[static_cast<std::size_t>(d)] < 0)
-          fail(r, at, fmt::format("the header has no column '{}': expected the columns x, y{} and volume (or size)",
-                                  axis_name[d], dim == 3 ? ", z" : ""));
-      if (volume < 0 && size < 0)
-        fail(r, at, "the header has no column 'volume' (m^3, m^2 per metre in 2D) or 'size' (the particle's edge, m)");
-      if (volume >= 0 && size >= 0) fail(r, at, "the header has both 'volume' and 'size'; give one");
-      t->values.assign(t->columns.size(), {});
-      continue;
     }
-    const std::vector<std::string> cells = split(trimmed);
-    if (cells.size() != header.size())
-      fail(r, at, fmt::format("expected {} values as in the header (line {}), got {}", header.size(), header_line,
-                              cells.size()));
-    auto number = [&](int col) {
-      const std::string& cell = cells[static_cast<std::size_t>(col)];
-      char* end = nullptr;
-      const double v = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || end != cell.c_str() + cell.size() || !std::isfinite(v))
-        fail(r, at, fmt::format("column '{}': expected a finite number, got \"{}\"", header[static_cast<std::size_t>(col)],
-                                printable(cell)));
-      return v;
-    };
-    Triple x{};
-    for (int d = 0; d < dim; ++d) x[static_cast<std::size_t>(d)] = number(xi[static_cast<std::size_t>(d)]);
-    double v = 0.0;
-    if (volume >= 0) v = number(volume);
-    else v = std::pow(number(size), dim);
-    if (!(v > 0.0))
-      fail(r, at, fmt::format("column '{}': expected a positive value, got {}", volume >= 0 ? "volume" : "size",
-                              cells[static_cast<std::size_t>(volume >= 0 ? volume : size)]));
-    t->x.push_back(x);
-    t->volume.push_back(v);
-    t->where.push_back(at);
-    for (std::size_t k = 0; k < field_col.size(); ++k) t->values[k].push_back(number(field_col[k]));
-    check_inside(r, *t, t->x.size() - 1);
   }
-  if (header.empty()) fail(r, r.path, "the file is empty; expected a header row (x, y, volume, ...) and one row per particle");
-  if (t->x.empty()) fail(r, r.path, "the file has a header but no particle row");
+  for (int d = 0; d < dim; ++d)
+    if (xi[static_cast<std::size_t>(d)] < 0)
+      fail(r, header, fmt::format("no column \"{}\": expected the columns x, y{} and volume (or size)", axis_name[d],
+                                  dim == 3 ? ", z" : ""));
+  const int volume = csv.column("volume"), size = csv.column("size");
+  if (volume < 0 && size < 0)
+    fail(r, header, "no column \"volume\" (m^3, m^2 per metre in 2D) or \"size\" (the particle's edge, m)");
+  if (volume >= 0 && size >= 0) fail(r, header, "both \"volume\" and \"size\"; give one");
+  t->values.assign(t->columns.size(), {});
+  for (std::size_t row = 0; row < csv.rows.size(); ++row) {
+    const std::vector<double>& v = csv.rows[row];
+    Triple x{};
+    for (int d = 0; d < dim; ++d) x[static_cast<std::size_t>(d)] = v[static_cast<std::size_t>(xi[static_cast<std::size_t>(d)])];
+    const double given = v[static_cast<std::size_t>(volume >= 0 ? volume : size)];
+    if (!(given > 0.0))
+      fail(r, csv.at(row), fmt::format("column \"{}\": expected a positive value, got {}", volume >= 0 ? "volume" : "size",
+                                       given));
+    t->x.push_back(x);
+    t->volume.push_back(volume >= 0 ? given : std::pow(given, dim));
+    t->where.push_back(csv.at(row));
+    for (std::size_t k = 0; k < field_col.size(); ++k) t->values[k].push_back(v[static_cast<std::size_t>(field_col[k])]);
+    check_inside(r, *t, row);
+  }
   return t;
 }
 
@@ -254,6 +194,8 @@ std::shared_ptr<const ParticleTable> read_vtu(const ParticleFileRequest& r, cons
                     "holding \"volume\" (with \"stress\", \"velocity\" and the material state to carry them over)");
   auto t = std::make_shared<ParticleTable>();
   t->file = r.path;
+  t->digest = 1469598103934665603ull;  // FNV-1a of the bytes, as io/csv_table.cpp
+  for (const unsigned char ch : text) t->digest = (t->digest ^ ch) * 1099511628211ull;
   const int dim = r.dimension;
   // Columns: every frame field a file may set, by component (velocity only when asked for).
   std::vector<std::pair<const Array*, int>> source;
@@ -295,10 +237,9 @@ std::shared_ptr<const ParticleTable> read_vtu(const ParticleFileRequest& r, cons
 }  // namespace
 
 std::shared_ptr<const ParticleTable> read_particle_file(const ParticleFileRequest& r) {
-  const std::string text = read_whole(r);
   const std::string ext = std::filesystem::path(r.path).extension().string();
-  if (ext == ".vtu") return read_vtu(r, text);
-  if (ext == ".csv") return read_csv(r, text);
+  if (ext == ".vtu") return read_vtu(r, read_whole(r));
+  if (ext == ".csv") return read_csv(r);
   throw InputError(fmt::format("{}: key '{}': expected a file ending in .csv or .vtu, got \"{}\"", r.key_where, r.key,
                                printable(r.path)));
 }

@@ -88,6 +88,7 @@ struct ParticleTable {
   std::vector<std::string> where;     // "FILE:LINE" or "FILE: point N" of each row, for messages
   std::vector<std::string> columns;   // further columns: a particle field component each
   std::vector<std::vector<double>> values;  // values[column][row]
+  std::uint64_t digest = 0;           // of the file's bytes, for Config::fingerprint
 };
 
 struct BodyConfig {

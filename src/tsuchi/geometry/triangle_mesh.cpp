@@ -93,6 +93,12 @@ std::optional<std::string> TriangleMesh::problem(const std::vector<Triangle>& tr
         return fmt::format("the surface is not closed: the edge from {} to {} of {} belongs to no other triangle",
                            point_text(vert[a]), point_text(vert[b]), name(t));
     }
+  // Closed and oriented, yet flat (a sheet doubled back on itself): nothing to fill.
+  const Point o = vert[0];
+  double volume = 0.0;
+  for (const auto& t : tri) volume += (vert[t[0]] - o).dot((vert[t[1]] - o).cross(vert[t[2]] - o));
+  if (std::abs(volume) / 6.0 <= 1e-12 * size * size * size)
+    return fmt::format("the surface encloses no volume (its {} triangles lie flat on each other)", tri.size());
   return std::nullopt;
 }
 

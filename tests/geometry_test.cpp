@@ -115,6 +115,18 @@ std::vector<Triangle> icosphere(const Point& centre, double radius, int levels) 
   return tris;
 }
 
+// A bumpy, non-convex closed surface: the unit icosphere with each vertex moved along its
+// radius by a smooth function of its position (the same vertex moves the same in every triangle).
+std::vector<Triangle> bumpy_sphere(int levels) {
+  auto tris = icosphere(Point(0.0, 0.0, 0.0), 1.0, levels);
+  for (auto& t : tris)
+    for (Point& p : t) {
+      p *= 1.0 + 0.35 * std::sin(4.0 * p[0]) * std::cos(3.0 * p[1] + p[2]);
+      p = p.cast<float>().cast<double>();  // as a binary file stores it
+    }
+  return tris;
+}
+
 // The enclosed volume, by the test's own sum (long double, about the first corner).
 double polyhedron_volume(const std::vector<Triangle>& tris) {
   long double v = 0;
@@ -198,6 +210,8 @@ TEST(Geometry, MeasureAgainstLatticeCount) {
   const auto sphere_tris = icosphere(Point(0.1, -0.2, 0.3), 1.0, 3);  // 1280 triangles
   write_ascii_stl(tmp.path / "cube.stl", cube_tris);
   write_binary_stl(tmp.path / "sphere.stl", sphere_tris);
+  const auto bumpy_tris = bumpy_sphere(4);  // 5120 triangles
+  write_binary_stl(tmp.path / "bumpy.stl", bumpy_tris);
   const std::string dir = tmp.path.string();
   const double pi = std::numbers::pi;
 
@@ -237,6 +251,8 @@ holes = [[[0.8, 0.3], [1.2, 0.3], [1.2, 0.6], [0.8, 0.6]]]
   cases.push_back({"STL cube (ASCII)", shape_from("[body]\nshape='stl'\nfile='cube.stl'\n", 3, dir), 3, 1.0, 1.0});
   cases.push_back({"STL icosphere (binary)", shape_from("[body]\nshape='stl'\nfile='sphere.stl'\n", 3, dir), 3,
                    polyhedron_volume(sphere_tris), 1.0});
+  cases.push_back({"STL bumpy sphere (binary)", shape_from("[body]\nshape='stl'\nfile='bumpy.stl'\n", 3, dir), 3,
+                   polyhedron_volume(bumpy_tris), 1.0});
 
   constexpr int levels = 4;
   std::printf("\n%-26s %12s %12s   %s\n", "shape", "exact", "measure()",
@@ -273,6 +289,7 @@ TEST(Geometry, ChordsAgreeWithContainsOnRandomLines) {
   TempDir tmp("tsuchi_geometry");
   write_binary_stl(tmp.path / "sphere.stl", icosphere(Point(0.0, 0.0, 0.0), 1.0, 2));
   write_ascii_stl(tmp.path / "cube.stl", cube(-0.5, 0.5));
+  write_binary_stl(tmp.path / "bumpy.stl", bumpy_sphere(4));
   const std::string dir = tmp.path.string();
   struct Named {
     std::string name;
@@ -292,6 +309,7 @@ TEST(Geometry, ChordsAgreeWithContainsOnRandomLines) {
       {"extrusion", shape_from("[body]\nshape='extrusion'\naxis='x'\nfrom=-1\nto=1\nvertices=[[-1,-1],[1,-1],[0,1]]\n", 3), 3},
       {"stl sphere minus stl cube", shape_from("[body]\nshape='stl'\nfile='sphere.stl'\nsubtract=[{shape='stl', "
                                                "file='cube.stl', offset=[0.7,0,0]}]\n", 3, dir), 3},
+      {"stl bumpy sphere", shape_from("[body]\nshape='stl'\nfile='bumpy.stl'\n", 3, dir), 3},
       {"box n half-space u sphere", shape_from("[body]\nmin=[-1,-1,-1]\nmax=[1,1,1]\nintersect=[{shape='half_space', "
                                                "point=[0,0,0.2], normal=[0.3,-0.2,1]}]\nadd=[{shape='sphere', "
                                                "centre=[0,0,0.8], radius=0.5}]\n", 3), 3},

@@ -440,6 +440,30 @@ TEST(Geometry, SelfIntersectingPolygonIsRefused) {
                        "edge 3 from (1, 0) to (0, 1)", "crosses"});
   expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [1, 1]]\n", 2), {"at least 3"});
   expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [1, 1], [2, 2]]\n", 2), {"zero area"});
+  // Touching itself at a vertex; a spike that doubles back along its own edge; a repeated vertex.
+  expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [2, 0], [1, 1], [2, 2], [0, 2], [1, 1]]\n", 2),
+                 {"crosses or touches"});
+  expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [2, 0], [2, 2], [2, 1]]\n", 2),
+                 {"edge 2 from (2, 0) to (2, 2) of the outline crosses or touches edge"});
+  expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [2, 0], [2, 0], [0, 2]]\n", 2),
+                 {"zero-length edge: vertex 3 repeats vertex 2"});
+}
+
+TEST(Geometry, LargePolygonIsCheckedAndMeasuredQuickly) {
+  // A regular polygon of 20000 vertices: the crossing check sweeps rather than trying all pairs.
+  constexpr int n = 20000;
+  std::string v;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2.0 * std::numbers::pi * k / n;
+    v += fmt::format("{}[{:.17g}, {:.17g}]", k ? ", " : "", 2.0 * std::cos(t), 2.0 * std::sin(t));
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const ShapePtr p = shape_from("[body]\nshape = 'polygon'\nvertices = [" + v + "]\n", 2);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_NEAR(p->measure(), 0.5 * n * 4.0 * std::sin(2.0 * std::numbers::pi / n), 1e-9);
+  EXPECT_LT(seconds, 2.0);
+  EXPECT_TRUE(p->contains(Point(1.99, 0.0, 0.0)));
+  EXPECT_FALSE(p->contains(Point(1.4143, 1.4143, 0.0)));
 }
 
 TEST(Geometry, HoleOutsideOutlineOrOverlappingIsRefused) {

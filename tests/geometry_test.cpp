@@ -516,6 +516,25 @@ TEST(Geometry, BadStlIsRefused) {
   expect_message(error_of("[body]\nshape = 'stl'\nfile = 'missing.stl'\n", 3, dir), {"missing.stl", "no such file"});
 }
 
+TEST(Geometry, StlInCapitalsWithScaleAndOffset) {
+  TempDir tmp("tsuchi_geometry");
+  write_ascii_stl(tmp.path / "c.stl", cube(0.0, 1000.0));  // a cube of 1000 mm
+  std::string text;
+  {
+    std::ifstream in(tmp.path / "c.stl");
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  for (char& ch : text) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  tsuchi::test::write_file(tmp.path / "c.stl", text);
+  const ShapePtr s = shape_from("[body]\nshape = 'stl'\nfile = 'c.stl'\nscale = 0.002\noffset = [1, 0, -1]\n", 3,
+                                tmp.path.string());
+  EXPECT_NEAR(s->measure(), 8.0, 1e-12);
+  EXPECT_EQ(s->bounds().min, Point(1, 0, -1));
+  EXPECT_EQ(s->bounds().max, Point(3, 2, 1));
+  EXPECT_TRUE(s->contains(Point(2, 1, 0)));
+  EXPECT_FALSE(s->contains(Point(0.5, 1, 0)));
+}
+
 TEST(Geometry, UnboundedBodyAndWrongDimensionAreRefused) {
   expect_message(error_of("[body]\nshape = 'half_space'\npoint = [0, 0]\nnormal = [0, 1]\n", 2),
                  {"shapes.toml:2:9: key 'body.shape'", "a body's shape must be bounded",

@@ -59,7 +59,10 @@ class Words {
     const std::size_t from = i_;
     while (i_ < t_.size() && !std::isspace(static_cast<unsigned char>(t_[i_]))) ++i_;
     word_line_ = line_;
-    return t_.substr(from, i_ - from);
+    // Keywords in any case ("FACET", as some exporters write them); numbers do not mind.
+    std::string w = t_.substr(from, i_ - from);
+    for (char& ch : w) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return w;
   }
 
   void skip_line() {
@@ -143,13 +146,14 @@ StlSurface read_stl(const std::string& path) {
   if (ec) throw StlError(fmt::format("cannot read its size: {}", ec.message()));
   if (size > max_stl_bytes) throw StlError(fmt::format("{} bytes is more than the {} accepted", size, max_stl_bytes));
   std::ifstream in(path, std::ios::binary);
+  if (!in.is_open()) throw StlError("cannot be opened (is it readable?)");
   std::string b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in.good() && !in.eof()) throw StlError("cannot be read");
   if (b.size() != size) throw StlError("changed while it was read");
   if (b.size() >= 84 && 84 + std::uint64_t{50} * u32_at(b, 80) == b.size()) return read_binary(b);
   std::size_t i = 0;
   while (i < b.size() && std::isspace(static_cast<unsigned char>(b[i]))) ++i;
-  if (b.compare(i, 5, "solid") == 0 && b.find('\0') == std::string::npos) return read_ascii(b);
+  if ((b.compare(i, 5, "solid") == 0 || b.compare(i, 5, "SOLID") == 0) && b.find('\0') == std::string::npos) return read_ascii(b);
   if (b.size() < 84) throw StlError(fmt::format("{} bytes is too short for a binary STL file (84 at least)", b.size()));
   throw StlError(fmt::format("a binary STL file announcing {} triangles has 84 + 50 x {} = {} bytes, this one has {}: "
                              "it is cut short or not an STL file",

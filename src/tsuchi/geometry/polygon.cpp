@@ -91,7 +91,8 @@ std::optional<std::string> PolygonRegion::problem(const Ring& outline, const std
     for (std::size_t i = 1; i < n; ++i)
       if ((r[i] - r[0]).squaredNorm() > (r[far] - r[0]).squaredNorm()) far = i;
     const double len2 = (r[far] - r[0]).squaredNorm();
-    if (std::all_of(r.begin(), r.end(), [&](const Point2& p) { return std::abs(orient(r[0], r[far], p)) <= 1e-12 * len2; }))
+    if (std::all_of(r.begin(), r.end(),
+                    [&](const Point2& p) { return std::abs(orient(r[0], r[far], p)) <= 1e-12 * len2; }))
       return fmt::format("{} has zero area (its vertices lie on one line)", ring_name(k));
   }
   // Pairs of edges whose x-ranges overlap, found by a sweep over the edges sorted by their lowest
@@ -115,7 +116,8 @@ std::optional<std::string> PolygonRegion::problem(const Ring& outline, const std
   for (std::size_t p = 0; p < edges.size(); ++p)
     for (std::size_t q = p + 1; q < edges.size() && edges[q].lo <= edges[p].hi; ++q) {
       // The pair in input order: ring k edge i before ring l edge j.
-      const bool in_order = edges[p].ring != edges[q].ring ? edges[p].ring < edges[q].ring : edges[p].index < edges[q].index;
+      const bool in_order =
+          edges[p].ring != edges[q].ring ? edges[p].ring < edges[q].ring : edges[p].index < edges[q].index;
       const Edge& e = in_order ? edges[p] : edges[q];
       const Edge& f = in_order ? edges[q] : edges[p];
       const Ring& r = *rings[e.ring];

@@ -29,8 +29,8 @@ namespace {
 
 using namespace tsuchi;
 using namespace tsuchi::geometry;
-using tsuchi::test::TempDir;
 using tsuchi::test::expect_message;
+using tsuchi::test::TempDir;
 namespace fs = std::filesystem;
 
 const std::string kFile = "shapes.toml";
@@ -78,8 +78,8 @@ std::vector<Triangle> cube(double lo, double hi) {
 // (what a binary STL stores), outward wound.
 std::vector<Triangle> icosphere(const Point& centre, double radius, int levels) {
   const double g = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Point> v = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
-                          {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+  std::vector<Point> v = {{-1, g, 0},  {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g},  {0, 1, g},
+                          {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
   std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                        {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                                        {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
@@ -217,37 +217,51 @@ TEST(Geometry, MeasureAgainstLatticeCount) {
 
   std::vector<Case> cases;
   cases.push_back({"disk R=1", shape_from("[body]\nshape='disk'\ncentre=[0.3, -0.1]\nradius=1.0\n", 2), 2, pi, 1.0});
-  cases.push_back({"polygon 2x1 with hole", shape_from(R"([body]
+  cases.push_back({"polygon 2x1 with hole",
+                   shape_from(R"([body]
 shape = "polygon"
 vertices = [[0.0, 0.0], [2.0, 0.0], [2.0, 1.0], [1.0, 1.6], [0.0, 1.0]]
 holes = [[[0.5, 0.3], [1.5, 0.3], [1.0, 0.8]]]
-)", 2), 2, 2.0 + 0.5 * 2.0 * 0.6 - 0.5 * 1.0 * 0.5, 1.0});
-  cases.push_back({"tunnel: box minus disk", shape_from(R"([body]
+)",
+                              2),
+                   2, 2.0 + 0.5 * 2.0 * 0.6 - 0.5 * 1.0 * 0.5, 1.0});
+  cases.push_back({"tunnel: box minus disk",
+                   shape_from(R"([body]
 shape = "box"
 min = [0.0, 0.0]
 max = [2.0, 1.0]
 subtract = [{shape = "disk", centre = [1.0, 0.5], radius = 0.3}]
-)", 2), 2, 2.0 - pi * 0.09, 1.0});
-  cases.push_back({"slope: box n half-space", shape_from(R"([body]
+)",
+                              2),
+                   2, 2.0 - pi * 0.09, 1.0});
+  cases.push_back({"slope: box n half-space",
+                   shape_from(R"([body]
 shape = "box"
 min = [0.0, 0.0]
 max = [3.0, 1.0]
 intersect = [{shape = "half_space", point = [1.05, 1.05], normal = [1.0, 1.0]}]
-)", 2), 2, 1.6, 1.0});  // x + y <= 2.1 in the box: the integral of 2.1 - y over 0 <= y <= 1
-  cases.push_back({"cylinder along z", shape_from("[body]\nshape='cylinder'\nbase=[0,0,-1]\ntop=[0,0,1]\nradius=1.0\n", 3),
-                   3, pi * 2.0, 1.0});
-  cases.push_back({"cylinder tilted", shape_from("[body]\nshape='cylinder'\nbase=[0.1,0.2,-0.6]\ntop=[1.2,0.9,0.8]\nradius=0.7\n", 3),
-                   3, pi * 0.49 * std::sqrt(1.1 * 1.1 + 0.7 * 0.7 + 1.4 * 1.4), 0.7});
+)",
+                              2),
+                   2, 1.6, 1.0});  // x + y <= 2.1 in the box: the integral of 2.1 - y over 0 <= y <= 1
+  cases.push_back({"cylinder along z",
+                   shape_from("[body]\nshape='cylinder'\nbase=[0,0,-1]\ntop=[0,0,1]\nradius=1.0\n", 3), 3, pi * 2.0,
+                   1.0});
+  cases.push_back({"cylinder tilted",
+                   shape_from("[body]\nshape='cylinder'\nbase=[0.1,0.2,-0.6]\ntop=[1.2,0.9,0.8]\nradius=0.7\n", 3), 3,
+                   pi * 0.49 * std::sqrt(1.1 * 1.1 + 0.7 * 0.7 + 1.4 * 1.4), 0.7});
   cases.push_back({"sphere R=1", shape_from("[body]\nshape='sphere'\ncentre=[0.1,0.2,0.3]\nradius=1.0\n", 3), 3,
                    4.0 / 3.0 * pi, 1.0});
-  cases.push_back({"extrusion along y", shape_from(R"([body]
+  cases.push_back({"extrusion along y",
+                   shape_from(R"([body]
 shape = "extrusion"
 axis = "y"
 from = -0.5
 to = 1.0
 vertices = [[0.0, 0.0], [2.0, 0.0], [1.0, 1.5]]
 holes = [[[0.8, 0.3], [1.2, 0.3], [1.2, 0.6], [0.8, 0.6]]]
-)", 3), 3, (1.5 - 0.12) * 1.5, 1.0});
+)",
+                              3),
+                   3, (1.5 - 0.12) * 1.5, 1.0});
   cases.push_back({"STL cube (ASCII)", shape_from("[body]\nshape='stl'\nfile='cube.stl'\n", 3, dir), 3, 1.0, 1.0});
   cases.push_back({"STL icosphere (binary)", shape_from("[body]\nshape='stl'\nfile='sphere.stl'\n", 3, dir), 3,
                    polyhedron_volume(sphere_tris), 1.0});
@@ -298,21 +312,37 @@ TEST(Geometry, ChordsAgreeWithContainsOnRandomLines) {
   };
   const std::vector<Named> shapes = {
       {"disk", shape_from("[body]\nshape='disk'\ncentre=[0.0, 0.0]\nradius=1.0\n", 2), 2},
-      {"polygon", shape_from("[body]\nshape='polygon'\nvertices=[[-1,-1],[1,-1],[0,0],[1,1],[-1,1]]\n"
-                             "holes=[[[-0.8,-0.2],[-0.4,-0.2],[-0.6,0.3]]]\n", 2), 2},
-      {"slope", shape_from("[body]\nmin=[-1,-1]\nmax=[1,1]\nintersect=[{shape='half_space', point=[0,0], normal=[1,2]}]\n", 2), 2},
-      {"union minus", shape_from("[body]\nshape='disk'\ncentre=[-0.4,0]\nradius=0.6\nadd=[{shape='disk', centre=[0.4,0], "
-                                 "radius=0.6}]\nsubtract=[{shape='box', min=[-0.2,-0.2], max=[0.2,0.2], "
-                                 "subtract=[{shape='disk', centre=[0,0], radius=0.1}]}]\n", 2), 2},
-      {"tilted cylinder", shape_from("[body]\nshape='cylinder'\nbase=[-0.5,-0.3,-0.6]\ntop=[0.6,0.5,0.4]\nradius=0.4\n", 3), 3},
+      {"polygon",
+       shape_from("[body]\nshape='polygon'\nvertices=[[-1,-1],[1,-1],[0,0],[1,1],[-1,1]]\n"
+                  "holes=[[[-0.8,-0.2],[-0.4,-0.2],[-0.6,0.3]]]\n",
+                  2),
+       2},
+      {"slope",
+       shape_from("[body]\nmin=[-1,-1]\nmax=[1,1]\nintersect=[{shape='half_space', point=[0,0], normal=[1,2]}]\n", 2),
+       2},
+      {"union minus",
+       shape_from("[body]\nshape='disk'\ncentre=[-0.4,0]\nradius=0.6\nadd=[{shape='disk', centre=[0.4,0], "
+                  "radius=0.6}]\nsubtract=[{shape='box', min=[-0.2,-0.2], max=[0.2,0.2], "
+                  "subtract=[{shape='disk', centre=[0,0], radius=0.1}]}]\n",
+                  2),
+       2},
+      {"tilted cylinder",
+       shape_from("[body]\nshape='cylinder'\nbase=[-0.5,-0.3,-0.6]\ntop=[0.6,0.5,0.4]\nradius=0.4\n", 3), 3},
       {"sphere", shape_from("[body]\nshape='sphere'\ncentre=[0,0,0]\nradius=1\n", 3), 3},
-      {"extrusion", shape_from("[body]\nshape='extrusion'\naxis='x'\nfrom=-1\nto=1\nvertices=[[-1,-1],[1,-1],[0,1]]\n", 3), 3},
-      {"stl sphere minus stl cube", shape_from("[body]\nshape='stl'\nfile='sphere.stl'\nsubtract=[{shape='stl', "
-                                               "file='cube.stl', offset=[0.7,0,0]}]\n", 3, dir), 3},
+      {"extrusion",
+       shape_from("[body]\nshape='extrusion'\naxis='x'\nfrom=-1\nto=1\nvertices=[[-1,-1],[1,-1],[0,1]]\n", 3), 3},
+      {"stl sphere minus stl cube",
+       shape_from("[body]\nshape='stl'\nfile='sphere.stl'\nsubtract=[{shape='stl', "
+                  "file='cube.stl', offset=[0.7,0,0]}]\n",
+                  3, dir),
+       3},
       {"stl bumpy sphere", shape_from("[body]\nshape='stl'\nfile='bumpy.stl'\n", 3, dir), 3},
-      {"box n half-space u sphere", shape_from("[body]\nmin=[-1,-1,-1]\nmax=[1,1,1]\nintersect=[{shape='half_space', "
-                                               "point=[0,0,0.2], normal=[0.3,-0.2,1]}]\nadd=[{shape='sphere', "
-                                               "centre=[0,0,0.8], radius=0.5}]\n", 3), 3},
+      {"box n half-space u sphere",
+       shape_from("[body]\nmin=[-1,-1,-1]\nmax=[1,1,1]\nintersect=[{shape='half_space', "
+                  "point=[0,0,0.2], normal=[0.3,-0.2,1]}]\nadd=[{shape='sphere', "
+                  "centre=[0,0,0.8], radius=0.5}]\n",
+                  3),
+       3},
   };
   std::mt19937 rng(42);
   std::uniform_real_distribution<double> u(-1.3, 1.3);
@@ -405,7 +435,8 @@ TEST(Geometry, StlChordsAreFastForManyTriangles) {
     inside += m.contains(x);
   }
   const auto t2 = std::chrono::steady_clock::now();
-  const double build = std::chrono::duration<double>(t1 - t0).count(), query = std::chrono::duration<double>(t2 - t1).count();
+  const double build = std::chrono::duration<double>(t1 - t0).count(),
+               query = std::chrono::duration<double>(t2 - t1).count();
   std::printf("STL of %zu triangles: built in %.3f s, 3e5 chords + 1e5 contains in %.3f s\n", m.triangle_count(), build,
               query);
   // The fraction of a cube [-1, 1]^3 inside the unit ball, pi / 6, to sampling error.
@@ -440,6 +471,31 @@ TEST(Geometry, SelfIntersectingPolygonIsRefused) {
                        "edge 3 from (1, 0) to (0, 1)", "crosses"});
   expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [1, 1]]\n", 2), {"at least 3"});
   expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [1, 1], [2, 2]]\n", 2), {"zero area"});
+  // Touching itself at a vertex; a spike that doubles back along its own edge; a repeated vertex.
+  expect_message(
+      error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [2, 0], [1, 1], [2, 2], [0, 2], [1, 1]]\n", 2),
+      {"crosses or touches"});
+  expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [2, 0], [2, 2], [2, 1]]\n", 2),
+                 {"edge 2 from (2, 0) to (2, 2) of the outline crosses or touches edge"});
+  expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [2, 0], [2, 0], [0, 2]]\n", 2),
+                 {"zero-length edge: vertex 3 repeats vertex 2"});
+}
+
+TEST(Geometry, LargePolygonIsCheckedAndMeasuredQuickly) {
+  // A regular polygon of 20000 vertices: the crossing check sweeps rather than trying all pairs.
+  constexpr int n = 20000;
+  std::string v;
+  for (int k = 0; k < n; ++k) {
+    const double t = 2.0 * std::numbers::pi * k / n;
+    v += fmt::format("{}[{:.17g}, {:.17g}]", k ? ", " : "", 2.0 * std::cos(t), 2.0 * std::sin(t));
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const ShapePtr p = shape_from("[body]\nshape = 'polygon'\nvertices = [" + v + "]\n", 2);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_NEAR(p->measure(), 0.5 * n * 4.0 * std::sin(2.0 * std::numbers::pi / n), 1e-9);
+  EXPECT_LT(seconds, 2.0);
+  EXPECT_TRUE(p->contains(Point(1.99, 0.0, 0.0)));
+  EXPECT_FALSE(p->contains(Point(1.4143, 1.4143, 0.0)));
 }
 
 TEST(Geometry, HoleOutsideOutlineOrOverlappingIsRefused) {
@@ -481,7 +537,8 @@ TEST(Geometry, BadStlIsRefused) {
     text.assign(std::istreambuf_iterator<char>(in), {});
   }
   tsuchi::test::write_file(tmp.path / "x.stl", tsuchi::test::replace(text, "vertex 0 0 0", "vertex 0 nan 0"));
-  expect_message(error_of(body, 3, dir), {"key 'body.file'", "line 4: a vertex coordinate 'nan' is not a finite number"});
+  expect_message(error_of(body, 3, dir),
+                 {"key 'body.file'", "line 4: a vertex coordinate 'nan' is not a finite number"});
   tsuchi::test::write_file(tmp.path / "x.stl", text.substr(0, text.size() / 2));
   expect_message(error_of(body, 3, dir), {"key 'body.file'", "expected"});
 
@@ -492,27 +549,51 @@ TEST(Geometry, BadStlIsRefused) {
   expect_message(error_of("[body]\nshape = 'stl'\nfile = 'missing.stl'\n", 3, dir), {"missing.stl", "no such file"});
 }
 
+TEST(Geometry, StlInCapitalsWithScaleAndOffset) {
+  TempDir tmp("tsuchi_geometry");
+  write_ascii_stl(tmp.path / "c.stl", cube(0.0, 1000.0));  // a cube of 1000 mm
+  std::string text;
+  {
+    std::ifstream in(tmp.path / "c.stl");
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  for (char& ch : text) ch = static_cast<char>(std::toupper(static_cast<unsigned char>(ch)));
+  tsuchi::test::write_file(tmp.path / "c.stl", text);
+  const ShapePtr s =
+      shape_from("[body]\nshape = 'stl'\nfile = 'c.stl'\nscale = 0.002\noffset = [1, 0, -1]\n", 3, tmp.path.string());
+  EXPECT_NEAR(s->measure(), 8.0, 1e-12);
+  EXPECT_EQ(s->bounds().min, Point(1, 0, -1));
+  EXPECT_EQ(s->bounds().max, Point(3, 2, 1));
+  EXPECT_TRUE(s->contains(Point(2, 1, 0)));
+  EXPECT_FALSE(s->contains(Point(0.5, 1, 0)));
+}
+
 TEST(Geometry, UnboundedBodyAndWrongDimensionAreRefused) {
-  expect_message(error_of("[body]\nshape = 'half_space'\npoint = [0, 0]\nnormal = [0, 1]\n", 2),
-                 {"shapes.toml:2:9: key 'body.shape'", "a body's shape must be bounded",
-                  "intersect the half-space with a box"});
+  expect_message(
+      error_of("[body]\nshape = 'half_space'\npoint = [0, 0]\nnormal = [0, 1]\n", 2),
+      {"shapes.toml:2:9: key 'body.shape'", "a body's shape must be bounded", "intersect the half-space with a box"});
   // A region may be unbounded.
-  EXPECT_NO_THROW(shape_from("[body]\nshape = 'half_space'\npoint = [0, 0]\nnormal = [0, 1]\n", 2, "",
-                             io::Extent::MayBeUnbounded));
+  EXPECT_NO_THROW(
+      shape_from("[body]\nshape = 'half_space'\npoint = [0, 0]\nnormal = [0, 1]\n", 2, "", io::Extent::MayBeUnbounded));
   expect_message(error_of("[body]\nshape = 'sphere'\ncentre = [0, 0]\nradius = 1\n", 2),
                  {"key 'body.shape'", "3D only", "use \"disk\""});
   expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0, 0]]\n", 3), {"2D only", "\"extrusion\""});
   expect_message(error_of("[body]\nshape = 'disk'\ncentre = [0, 0, 0]\nradius = 1\n", 3), {"\"cylinder\""});
   expect_message(error_of("[body]\nshape = 'disk'\ncentre = [0, 0, 0]\nradius = 1\n", 2),
                  {"key 'body.centre'", "expected an array of 2 numbers"});
-  expect_message(error_of("[body]\nshape = 'box'\nmin = [0, 0]\nmax = [1, 1]\nsubtract = [{centre = [0, 0], radius = 1}]\n", 2),
-                 {"missing key 'body.subtract.0.shape'"});
-  expect_message(error_of("[body]\nshape = 'box'\nmin = [0, 0]\nmax = [1, 1]\nsubtract = [{shape = 'disk', centre = [0, "
-                          "0], radius = 1, radiuss = 2}]\n", 2),
-                 {"unknown key 'body.subtract.0.radiuss'"});
-  expect_message(error_of("[body]\nshape = 'box'\nmin = [0, 0]\nmax = [1, 1]\nintersect = [{shape = 'disk', centre = [3, "
-                          "3], radius = 1}]\n", 2),
-                 {"intersections leave nothing"});
+  expect_message(
+      error_of("[body]\nshape = 'box'\nmin = [0, 0]\nmax = [1, 1]\nsubtract = [{centre = [0, 0], radius = 1}]\n", 2),
+      {"missing key 'body.subtract.0.shape'"});
+  expect_message(
+      error_of("[body]\nshape = 'box'\nmin = [0, 0]\nmax = [1, 1]\nsubtract = [{shape = 'disk', centre = [0, "
+               "0], radius = 1, radiuss = 2}]\n",
+               2),
+      {"unknown key 'body.subtract.0.radiuss'"});
+  expect_message(
+      error_of("[body]\nshape = 'box'\nmin = [0, 0]\nmax = [1, 1]\nintersect = [{shape = 'disk', centre = [3, "
+               "3], radius = 1}]\n",
+               2),
+      {"intersections leave nothing"});
   expect_message(error_of("[body]\nshape = 'cone'\n", 2), {"key 'body.shape'", "expected one of \"box\", \"polygon\""});
 }
 

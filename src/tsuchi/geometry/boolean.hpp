@@ -16,7 +16,10 @@ namespace tsuchi::geometry {
 class Boolean final : public Shape {
  public:
   Boolean(ShapePtr base, std::vector<ShapePtr> add, std::vector<ShapePtr> intersect, std::vector<ShapePtr> subtract)
-      : base_(std::move(base)), add_(std::move(add)), intersect_(std::move(intersect)), subtract_(std::move(subtract)) {}
+      : base_(std::move(base)),
+        add_(std::move(add)),
+        intersect_(std::move(intersect)),
+        subtract_(std::move(subtract)) {}
 
   bool contains(const Point& x) const override {
     bool in = base_->contains(x);
@@ -70,8 +73,8 @@ class Boolean final : public Shape {
         // Boxes overlap when they overlap along every axis; a flat axis (z in 2D) always does.
         bool overlap = true;
         for (int d = 0; d < 3; ++d)
-          overlap = overlap && ((o.min[d] < p.max[d] && p.min[d] < o.max[d]) ||
-                                (o.min[d] == o.max[d] && p.min[d] == p.max[d]));
+          overlap = overlap &&
+                    ((o.min[d] < p.max[d] && p.min[d] < o.max[d]) || (o.min[d] == o.max[d] && p.min[d] == p.max[d]));
         if (overlap) return nan;
       }
       m -= subtract_[i]->measure();

@@ -91,36 +91,53 @@ std::optional<std::string> PolygonRegion::problem(const Ring& outline, const std
     for (std::size_t i = 1; i < n; ++i)
       if ((r[i] - r[0]).squaredNorm() > (r[far] - r[0]).squaredNorm()) far = i;
     const double len2 = (r[far] - r[0]).squaredNorm();
-    if (std::all_of(r.begin(), r.end(), [&](const Point2& p) { return std::abs(orient(r[0], r[far], p)) <= 1e-12 * len2; }))
+    if (std::all_of(r.begin(), r.end(),
+                    [&](const Point2& p) { return std::abs(orient(r[0], r[far], p)) <= 1e-12 * len2; }))
       return fmt::format("{} has zero area (its vertices lie on one line)", ring_name(k));
   }
-  // Every pair of edges, within a ring and across rings (O(n^2), fine for hand-written input).
-  for (std::size_t k = 0; k < rings.size(); ++k) {
-    const Ring& r = *rings[k];
-    const std::size_t n = r.size();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Point2 &a = r[i], &b = r[(i + 1) % n];
-      for (std::size_t l = k; l < rings.size(); ++l) {
-        const Ring& q = *rings[l];
-        const std::size_t m = q.size();
-        for (std::size_t j = (l == k ? i + 1 : 0); j < m; ++j) {
-          const Point2 &c = q[j], &d = q[(j + 1) % m];
-          bool bad;
-          if (l == k && j == i + 1) {
-            // Neighbours share vertex b: wrong only if c doubles back along a->b.
-            bad = orient(a, b, d) == 0 && (d - b).dot(a - b) > 0;
-          } else if (l == k && i == 0 && j == n - 1) {
-            bad = orient(a, b, c) == 0 && (c - a).dot(b - a) > 0;  // the last edge ends at a
-          } else {
-            bad = meet(a, b, c, d);
-          }
-          if (bad)
-            return fmt::format("{} of {} crosses or touches {} of {}", edge_text(r, i), ring_name(k), edge_text(q, j),
-                               ring_name(l));
-        }
-      }
+  // Pairs of edges whose x-ranges overlap, found by a sweep over the edges sorted by their lowest
+  // x: a typical outline of n vertices costs n log n, not n^2 (a comb of long edges all side by
+  // side still costs n^2; the cap on vertices bounds it).
+  struct Edge {
+    std::size_t ring, index;
+    double lo, hi;
+  };
+  std::vector<Edge> edges;
+  for (std::size_t k = 0; k < rings.size(); ++k)
+    for (std::size_t i = 0, n = rings[k]->size(); i < n; ++i) {
+      const double x0 = (*rings[k])[i][0], x1 = (*rings[k])[(i + 1) % n][0];
+      edges.push_back({k, i, std::min(x0, x1), std::max(x0, x1)});
     }
-  }
+  if (edges.size() > max_vertices)
+    return fmt::format("{} vertices in all is more than the {} accepted", edges.size(), max_vertices);
+  std::sort(edges.begin(), edges.end(), [](const Edge& a, const Edge& b) {
+    return a.lo != b.lo ? a.lo < b.lo : a.ring != b.ring ? a.ring < b.ring : a.index < b.index;
+  });
+  for (std::size_t p = 0; p < edges.size(); ++p)
+    for (std::size_t q = p + 1; q < edges.size() && edges[q].lo <= edges[p].hi; ++q) {
+      // The pair in input order: ring k edge i before ring l edge j.
+      const bool in_order =
+          edges[p].ring != edges[q].ring ? edges[p].ring < edges[q].ring : edges[p].index < edges[q].index;
+      const Edge& e = in_order ? edges[p] : edges[q];
+      const Edge& f = in_order ? edges[q] : edges[p];
+      const Ring& r = *rings[e.ring];
+      const Ring& t = *rings[f.ring];
+      const std::size_t i = e.index, j = f.index, n = r.size();
+      const Point2 &a = r[i], &b = r[(i + 1) % n], &c = t[j], &d = t[(j + 1) % t.size()];
+      if (std::max(a[1], b[1]) < std::min(c[1], d[1]) || std::max(c[1], d[1]) < std::min(a[1], b[1])) continue;
+      bool bad;
+      if (e.ring == f.ring && j == i + 1) {
+        // Neighbours share vertex b: wrong only if d doubles back along b->a.
+        bad = orient(a, b, d) == 0 && (d - b).dot(a - b) > 0;
+      } else if (e.ring == f.ring && i == 0 && j == n - 1) {
+        bad = orient(a, b, c) == 0 && (c - a).dot(b - a) > 0;  // the last edge ends at a
+      } else {
+        bad = meet(a, b, c, d);
+      }
+      if (bad)
+        return fmt::format("{} of {} crosses or touches {} of {}", edge_text(r, i), ring_name(e.ring), edge_text(t, j),
+                           ring_name(f.ring));
+    }
   // No edges meet, so a hole lies wholly inside or wholly outside any other ring: one vertex tells.
   for (std::size_t h = 1; h < rings.size(); ++h) {
     if (!ring_contains(outline, (*rings[h])[0])) return fmt::format("{} is not inside the outline", ring_name(h));

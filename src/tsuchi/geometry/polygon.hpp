@@ -33,7 +33,9 @@ class PolygonRegion {
   // Refused: fewer than 3 vertices, a zero-length edge, zero area, two edges that cross or
   // touch (other than neighbours at their shared vertex), a hole outside the outline, a hole
   // inside another.
+  // More than max_vertices (over all rings) are refused too.
   static std::optional<std::string> problem(const Ring& outline, const std::vector<Ring>& holes);
+  static constexpr std::size_t max_vertices = 100000;
 
   bool contains(const Point2& p) const;
   // Intervals of coordinate `axis` (0 or 1) along the line through p parallel to that axis.

@@ -69,7 +69,8 @@ geometry::Ring read_ring(const Section& s, std::string_view key, const toml::nod
   if (!a) s.fail(key, fmt::format("expected {} as an array of [x, y] vertices, got {}", what, describe(n)));
   geometry::Ring r;
   for (std::size_t i = 0; i < a->size(); ++i) {
-    const Triple t = s.vector_of(key, *a->get(i), 2, fmt::format("the two coordinates in m of vertex {} of {}", i + 1, what), any);
+    const Triple t =
+        s.vector_of(key, *a->get(i), 2, fmt::format("the two coordinates in m of vertex {} of {}", i + 1, what), any);
     r.emplace_back(t[0], t[1]);
   }
   if (r.size() > 1 && r.front() == r.back()) r.pop_back();
@@ -77,17 +78,23 @@ geometry::Ring read_ring(const Section& s, std::string_view key, const toml::nod
 }
 
 geometry::PolygonRegion read_region(Section& s) {
-  const geometry::Ring outline = read_ring(s, "vertices", s.need("vertices", "the outline's vertices [[x, y], ...] in m"), "the outline");
+  const geometry::Ring outline =
+      read_ring(s, "vertices", s.need("vertices", "the outline's vertices [[x, y], ...] in m"), "the outline");
   if (auto why = geometry::PolygonRegion::problem(outline, {}))
     s.fail("vertices", fmt::format("expected a simple polygon (3 vertices or more, no two edges crossing or touching), "
-                                   "got a polygon whose {}", *why));
+                                   "got a polygon whose {}",
+                                   *why));
   std::vector<geometry::Ring> holes;
   if (const toml::node* h = s.get("holes")) {
     auto a = h->as_array();
-    if (!a) s.fail("holes", fmt::format("expected an array of holes, each an array of [x, y] vertices, got {}", describe(*h)));
-    for (std::size_t i = 0; i < a->size(); ++i) holes.push_back(read_ring(s, "holes", *a->get(i), fmt::format("hole {}", i + 1)));
+    if (!a)
+      s.fail("holes",
+             fmt::format("expected an array of holes, each an array of [x, y] vertices, got {}", describe(*h)));
+    for (std::size_t i = 0; i < a->size(); ++i)
+      holes.push_back(read_ring(s, "holes", *a->get(i), fmt::format("hole {}", i + 1)));
     if (auto why = geometry::PolygonRegion::problem(outline, holes))
-      s.fail("holes", fmt::format("expected holes inside the outline, apart from each other and from it, got: {}", *why));
+      s.fail("holes",
+             fmt::format("expected holes inside the outline, apart from each other and from it, got: {}", *why));
   }
   return {outline, std::move(holes)};
 }
@@ -156,8 +163,8 @@ geometry::ShapePtr read_any(Section& s, const Context& c, int fallback) {
   if (i < 0) s.need("shape", fmt::format("the kind of shape, one of {}", quoted_list(names)));
   const Kind& kind = kinds[i];
   if (kind.dimensions != 0 && kind.dimensions != c.dim)
-    s.fail("shape", fmt::format("expected a shape for a {}D model, got \"{}\", which is {}D only: use {}", c.dim, kind.name,
-                                kind.dimensions, kind.instead));
+    s.fail("shape", fmt::format("expected a shape for a {}D model, got \"{}\", which is {}D only: use {}", c.dim,
+                                kind.name, kind.dimensions, kind.instead));
   geometry::ShapePtr base = kind.read(s, c);
 
   std::vector<geometry::ShapePtr> ops[3];

@@ -59,7 +59,10 @@ class Words {
     const std::size_t from = i_;
     while (i_ < t_.size() && !std::isspace(static_cast<unsigned char>(t_[i_]))) ++i_;
     word_line_ = line_;
-    return t_.substr(from, i_ - from);
+    // Keywords in any case ("FACET", as some exporters write them); numbers do not mind.
+    std::string w = t_.substr(from, i_ - from);
+    for (char& ch : w) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return w;
   }
 
   void skip_line() {
@@ -71,8 +74,9 @@ class Words {
   void expect(const char* want) {
     const std::string w = next();
     if (w != want)
-      throw StlError(fmt::format("line {}: expected '{}', got {}", word_line_, want,
-                                 w.empty() ? std::string("the end of the file") : fmt::format("'{}'", w.substr(0, 40))));
+      throw StlError(
+          fmt::format("line {}: expected '{}', got {}", word_line_, want,
+                      w.empty() ? std::string("the end of the file") : fmt::format("'{}'", w.substr(0, 40))));
   }
 
   double number(const char* what) {
@@ -80,8 +84,9 @@ class Words {
     char* end = nullptr;
     const double v = w.empty() ? 0.0 : std::strtod(w.c_str(), &end);
     if (w.empty() || end != w.c_str() + w.size())
-      throw StlError(fmt::format("line {}: expected {}, got {}", word_line_, what,
-                                 w.empty() ? std::string("the end of the file") : fmt::format("'{}'", w.substr(0, 40))));
+      throw StlError(
+          fmt::format("line {}: expected {}, got {}", word_line_, what,
+                      w.empty() ? std::string("the end of the file") : fmt::format("'{}'", w.substr(0, 40))));
     if (!std::isfinite(v)) throw StlError(fmt::format("line {}: {} '{}' is not a finite number", word_line_, what, w));
     return v;
   }
@@ -143,17 +148,20 @@ StlSurface read_stl(const std::string& path) {
   if (ec) throw StlError(fmt::format("cannot read its size: {}", ec.message()));
   if (size > max_stl_bytes) throw StlError(fmt::format("{} bytes is more than the {} accepted", size, max_stl_bytes));
   std::ifstream in(path, std::ios::binary);
+  if (!in.is_open()) throw StlError("cannot be opened (is it readable?)");
   std::string b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (!in.good() && !in.eof()) throw StlError("cannot be read");
   if (b.size() != size) throw StlError("changed while it was read");
   if (b.size() >= 84 && 84 + std::uint64_t{50} * u32_at(b, 80) == b.size()) return read_binary(b);
   std::size_t i = 0;
   while (i < b.size() && std::isspace(static_cast<unsigned char>(b[i]))) ++i;
-  if (b.compare(i, 5, "solid") == 0 && b.find('\0') == std::string::npos) return read_ascii(b);
+  if ((b.compare(i, 5, "solid") == 0 || b.compare(i, 5, "SOLID") == 0) && b.find('\0') == std::string::npos)
+    return read_ascii(b);
   if (b.size() < 84) throw StlError(fmt::format("{} bytes is too short for a binary STL file (84 at least)", b.size()));
-  throw StlError(fmt::format("a binary STL file announcing {} triangles has 84 + 50 x {} = {} bytes, this one has {}: "
-                             "it is cut short or not an STL file",
-                             u32_at(b, 80), u32_at(b, 80), 84 + std::uint64_t{50} * u32_at(b, 80), b.size()));
+  throw StlError(
+      fmt::format("a binary STL file announcing {} triangles has 84 + 50 x {} = {} bytes, this one has {}: "
+                  "it is cut short or not an STL file",
+                  u32_at(b, 80), u32_at(b, 80), 84 + std::uint64_t{50} * u32_at(b, 80), b.size()));
 }
 
 }  // namespace tsuchi::io

@@ -381,4 +381,95 @@ TEST(Bodies, FramesNameTheBodies) {
       << doc.substr(0, 600);
 }
 
+// A 2:1 slope 2 m high on a 2 m deep base, from a polygon: the ground surface is at
+// H(x) = 2 for x < 4, 2 + (x - 4) / 2 up to x = 8, 4 beyond.
+const std::string kSlope = R"(
+[model]
+dimension = 2
+gravity = [0.0, -9.81]
+
+[grid]
+origin = [0.0, 0.0]
+extent = [12.0, 5.0]
+cell_size = 0.5
+
+[[materials]]
+name = "soil"
+model = "linear_elastic"
+density = 2000.0
+youngs_modulus = 2.0e7
+poisson_ratio = 0.3
+
+[[bodies]]
+name = "slope"
+material = "soil"
+shape = "polygon"
+vertices = [[0.0, 0.0], [12.0, 0.0], [12.0, 4.0], [8.0, 4.0], [4.0, 2.0], [0.0, 2.0]]
+particles_per_cell = 2
+[bodies.initial_stress]
+k0 = 0.428571428571428571
+
+[boundary]
+x_min = "roller"
+x_max = "roller"
+y_min = "fixed"
+
+[solver]
+damping = 0.7
+
+[time]
+end = 10.0
+courant = 0.5
+
+[[recorders]]
+name = "ratio"
+quantity = "unbalanced_force_ratio"
+stop_below = 1e-5
+)";
+
+double slope_surface(double x) { return x < 4.0 ? 2.0 : x < 8.0 ? 2.0 + 0.5 * (x - 4.0) : 4.0; }
+
+TEST(Bodies, K0OfASlopeIsTheOverburden) {
+  const Model<2> m = build_model<2>(read_config_string(kSlope, "slope.toml"));
+  const auto& p = m.particles;
+  // 16 particles per m^2 of a polygon of 12 x 2 + 4 x 1 + 4 x 2 = 36 m^2 (the slope's face
+  // crosses lattice points only on its ends, and every row of the face cuts its cells in half).
+  EXPECT_EQ(p.size(), 36u * 16u);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double x = p.x_p[i][0], y = p.x_p[i][1];
+    const double sv = -2000.0 * g * (slope_surface(x) - y);
+    worst = std::max(worst, std::abs(p.sigma_p[i][1] - sv) / (2000.0 * g * 4.0));
+    ASSERT_NEAR(p.sigma_p[i][0], 0.428571428571428571 * p.sigma_p[i][1], 1e-12 * 2000.0 * g * 4.0);
+  }
+  std::printf("slope: largest |sigma_yy - overburden| %.3g of rho g H\n", worst);
+  EXPECT_LT(worst, 1e-14);
+}
+
+// From zero stress to rest under gravity: away from the face (x < 2 m and x > 10 m, the level
+// ground on either side), the state is that of level ground, the overburden and K0 = nu/(1-nu).
+TEST(Bodies, SlopeAtRestMatchesTheOverburdenAwayFromTheFace) {
+  const std::string text = replace(kSlope, "[bodies.initial_stress]\nk0 = 0.428571428571428571\n", "");
+  const Config c = read_config_string(text, "slope.toml");
+  Model<2> m = build_model<2>(c);
+  const auto s = run_simulation<2>(m, c, no_output());
+  ASSERT_NE(s.stopped_by.find("ratio reached"), std::string::npos) << s.stopped_by;
+  const auto& p = m.particles;
+  const double scale = 2000.0 * g * 4.0;
+  double sum_v = 0.0, sum_h = 0.0, worst_v = 0.0, n = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double x0 = p.x_p[i][0] - p.u_p[i][0], y0 = p.x_p[i][1] - p.u_p[i][1];
+    if (x0 > 2.0 && x0 < 10.0) continue;
+    const double sv = -2000.0 * g * (slope_surface(x0) - y0);
+    const double ev = (p.sigma_p[i][1] - sv) / scale, eh = (p.sigma_p[i][0] - 0.428571428571 * sv) / scale;
+    sum_v += ev, sum_h += eh, n += 1.0;
+    worst_v = std::max(worst_v, std::abs(ev));
+  }
+  std::printf("slope at rest after %lld steps: away from the face, mean sigma_yy - overburden %.3g, mean sigma_xx - "
+              "K0 overburden %.3g, largest |sigma_yy - overburden| %.3g, all of rho g H\n",
+              static_cast<long long>(s.steps), sum_v / n, sum_h / n, worst_v);
+  EXPECT_LT(std::abs(sum_v / n), 0.01);
+  EXPECT_LT(std::abs(sum_h / n), 0.02);
+}
+
 }  // namespace

@@ -241,6 +241,9 @@ void read_particle_source(Section& s, Config& c, BodyConfig& b, const std::strin
   r.dimension = c.dimension;
   r.grid = c.grid;
   r.keep_velocity = s.boolean("keep_velocity", false);
+  if (s.has("keep_velocity") && std::filesystem::path(r.path).extension() != ".vtu")
+    s.fail("keep_velocity", "applies only to particles read from a .vtu frame; a CSV gives velocities in its "
+                            "velocity_x, velocity_y(, velocity_z) columns");
   b.particles = read_particle_file(r);
   c.file_digests.push_back(b.particles->digest);  // a restart checks the particles too
   b.shape_kind = "file";

@@ -527,4 +527,16 @@ TEST(Bodies, TunnelExample) {
   EXPECT_NEAR(hoop / ref, 1.0, 0.15);
 }
 
+// A profile that gives `surface` keeps the meaning it had before the overburden: a level surface
+// there and the particle's own density all the way up, whatever lies above.
+TEST(Bodies, K0WithASurfaceKeepsTheLevelSurfaceMeaning) {
+  const std::string text = replace(kStep, "[bodies.initial_stress]\nk0 = 0.5\n", "[bodies.initial_stress]\nk0 = 0.5\nsurface = 3.5\n");
+  const Model<2> m = build_model<2>(read_config_string(text, "step.toml"));
+  const auto& p = m.particles;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.body_p[i] == 0) {
+      ASSERT_NEAR(p.sigma_p[i][1], -2500.0 * g * (3.5 - p.x_p[i][1]), 1e-9 * 2500.0 * g * 3.5);
+    }
+}
+
 }  // namespace

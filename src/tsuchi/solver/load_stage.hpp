@@ -50,8 +50,8 @@ class LoadStage {
     Vec<D>* const f_g = n.f.data();
     if (body_force_) {
       schedule.scatter([&](std::size_t i) {
-        const Vec<D> F = p.m_p[i] * body_a_[static_cast<std::size_t>(p.body_p[i])];
-        spread<Kernel>(g, p, i, F, f_g);
+        const Vec<D>& a = body_a_[static_cast<std::size_t>(p.body_p[i])];
+        if (a != Vec<D>::Zero()) spread<Kernel>(g, p, i, Vec<D>(p.m_p[i] * a), f_g);
       });
     }
     for (std::size_t l = 0; l < loads.surface.size(); ++l) {

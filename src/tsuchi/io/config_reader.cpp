@@ -6,6 +6,7 @@
 #include "tsuchi/model/particle_fields.hpp"
 
 #include "tsuchi/io/function_reader.hpp"
+#include "tsuchi/io/load_reader.hpp"
 #include "tsuchi/io/material_reader.hpp"
 #include "tsuchi/io/particle_file_reader.hpp"
 #include "tsuchi/io/shape_reader.hpp"
@@ -310,6 +311,9 @@ void read_body(Section& s, Config& c, std::size_t index) {
     }
     g.finish();
   }
+  b.prescribed_velocity_function = read_function_ref(s, "prescribed_velocity_function", c);
+  if (b.prescribed_velocity_function >= 0 && std::none_of(b.prescribed.begin(), b.prescribed.end(), [](bool p) { return p; }))
+    s.fail("prescribed_velocity_function", "scales the prescribed velocity, but the body has no prescribed_velocity");
   if (const toml::table* t = s.table("initial_stress")) {
     Section is(*t, s.key_path("initial_stress"), s.file());
     read_initial_stress(is, c, b);
@@ -584,6 +588,7 @@ Config read_document(const toml::table& root, const std::string& file) {
     Section s(*t, "boundary", file);
     read_boundary(s, c);
   }
+  read_loads(top, c);
   if (const toml::table* t = top.table("solver")) {
     Section s(*t, "solver", file);
     read_solver(s, c);

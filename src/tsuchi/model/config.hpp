@@ -113,6 +113,7 @@ struct BodyConfig {
   std::array<bool, 3> prescribed{false, false, false};
   Triple prescribed_velocity{};
   std::array<Triple, 3> prescribed_gradient{};
+  int prescribed_velocity_function = -1;  // index in Config::functions: the prescribed velocity times f(t); -1: none
   InitialStressConfig initial_stress;
   ImperfectionConfig imperfection;
 };
@@ -126,6 +127,23 @@ struct BoundaryConfig {
   // faces[axis][0] is the lower face, [1] the upper one.
   std::array<std::array<FaceCondition, 2>, 3> faces{};
   std::vector<NodeSetConfig> node_sets;
+};
+
+// A load of the input's [[loads]] (docs/input.md, model/loads.hpp), times its function of time.
+struct LoadConfig {
+  enum class Kind { Traction, NodalForce, BodyForce };
+  Kind kind = Kind::Traction;
+  std::string where;  // "FILE:LINE:COL: key 'loads.N'" prefix for messages raised when the model is built
+  int function = -1;  // index in Config::functions; -1: constant
+  int body = -1;      // traction: the loaded body; body_force: the body, or -1 for every body
+  // traction: the particles selected by the box of initial positions [min, max], or by the plane
+  // through plane_point with normal plane_normal (pointing out of the body).
+  bool by_plane = false;
+  Triple min{}, max{};               // traction (box) and nodal_force: the box
+  Triple plane_point{}, plane_normal{};
+  bool pressure_given = false;       // traction: pressure (Pa, pushing inwards) instead of a traction vector
+  double pressure = 0.0;
+  Triple vector{};                   // traction (Pa), nodal_force's total force (N; N/m in 2D), body_force (N/m^3)
 };
 
 struct SolverConfig {
@@ -225,6 +243,7 @@ struct Config {
   OutputConfig output;
   CheckpointConfig checkpoint;
   std::vector<RecorderConfig> recorders;
+  std::vector<LoadConfig> loads;
   // Hash of everything that decides the state of a run (not the end time, step limit, output,
   // checkpoint schedule, time step choice, stop bounds or title): a checkpoint restarts only a
   // configuration with the same fingerprint.

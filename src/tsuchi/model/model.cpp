@@ -412,13 +412,16 @@ void add_body(const Config& c, int body, const Placement<D>& pl, Model<D>& m) {
     motion.v0[d] = b.prescribed_velocity[d];
     for (int e = 0; e < D; ++e) motion.grad(d, e) = b.prescribed_gradient[d][e];
   }
-  // A prescribed component starts at its prescribed value (with APIC, and its gradient).
+  if (b.prescribed_velocity_function >= 0)
+    motion.function = c.functions[static_cast<std::size_t>(b.prescribed_velocity_function)].f;
+  // A prescribed component starts at its prescribed value (with APIC, and its gradient), at t = 0.
   const bool apic = c.solver.velocity_transfer == VelocityTransfer::Apic;
+  const double f0 = motion.function(0.0);
   for (std::size_t q = start; q < p.size(); ++q)
     for (int d = 0; d < D; ++d)
       if (motion.prescribed[d]) {
-        p.v_p[q][d] = motion.velocity(d, p.x_p[q]);
-        if (apic) p.C_p[q].row(d) = motion.grad.row(d);
+        p.v_p[q][d] = f0 * motion.velocity(d, p.x_p[q]);
+        if (apic) p.C_p[q].row(d) = f0 * motion.grad.row(d);
       }
   m.motion.push_back(motion);
 }
@@ -474,6 +477,7 @@ Model<D> build_model(const Config& c) {
   m.particles.permute(blocks.order());
   const auto& mp = m.particles.m_p;
   m.step.node_mass_floor = c.solver.mass_threshold * *std::min_element(mp.begin(), mp.end());
+  m.loads = build_loads<D>(c, m.particles, m.grid);
   return m;
 }
 

@@ -5,6 +5,7 @@
 #include "tsuchi/grid/grid.hpp"
 #include "tsuchi/material/material.hpp"
 #include "tsuchi/model/config.hpp"
+#include "tsuchi/model/loads.hpp"
 #include "tsuchi/model/step_settings.hpp"
 #include "tsuchi/particles/particles.hpp"
 
@@ -13,13 +14,15 @@
 
 namespace tsuchi {
 
-// Per body: which velocity components are prescribed, v = v0 + grad . x (a loading platen).
+// Per body: which velocity components are prescribed, v = f(t) (v0 + grad . x) (a loading platen;
+// f = 1 unless bodies.N.prescribed_velocity_function names one; the solver applies f).
 template <int D>
 struct BodyMotion {
   std::array<bool, D> prescribed{};
   Vec<D> v0 = Vec<D>::Zero();
   Mat<D> grad = Mat<D>::Zero();
   bool any = false;
+  TimeFunction function;
 
   double velocity(int d, const Vec<D>& x) const { return v0[d] + grad.row(d).dot(x); }
 };
@@ -37,6 +40,7 @@ struct Model {
   std::vector<std::size_t> body_particles;  // particle count per body
   std::vector<double> body_volume;          // initial volume per body (m^3; m^2 in 2D)
   bool rotate_initial_stress = false;       // some body holds an anisotropic sigma0 by eq (2)
+  Loads<D> loads;                           // the input's [[loads]] (model/loads.hpp)
 
   std::size_t bytes() const { return grid.bytes() + particles.size() * particles.bytes_per_particle(); }
 };

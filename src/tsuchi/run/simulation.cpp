@@ -72,6 +72,7 @@ std::optional<StopForecast> forecast_stop(const Config& c) {
     const int d = r.quantity.back() - 'x';
     const BodyConfig& b = c.bodies[static_cast<std::size_t>(r.body)];
     if (d < 0 || d >= c.dimension || !b.prescribed[d]) continue;
+    if (b.prescribed_velocity_function >= 0) continue;  // v0 f(t): no constant rate to forecast by
     if (std::any_of(b.prescribed_gradient[d].begin(), b.prescribed_gradient[d].end(), [](double g) { return g != 0.0; }))
       continue;
     // Every particle of the body moves at v0 from t = 0: the column is scale * v0 * t + offset

@@ -59,6 +59,7 @@ void ExplicitSolver<D>::step_with(double dt) {
     schedule_.invalidate();
     schedule_.build(g, m_.particles.x_p, reach);
   }
+  begin_loads(dt);
   // Local damping acts on the free motion only: a component a prescribed body drives is held, and
   // a damping force there would only add to the force holding it (its reaction), 5 % of the
   // nodal force with damping 0.05, as a fixed component takes none either.
@@ -73,18 +74,21 @@ void ExplicitSolver<D>::step_with(double dt) {
       nodal_velocity();
       update_stress<Kernel, AfterStress::DeferDomain>(dt, field.v);
       p2g<Kernel, Scatter::Force, How>();
+      loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, nodes());
       solve_grid(dt);
       g2p<Kernel, AfterGather::Move, How>(dt);
       apply_deferred_domain_update();
       break;
     case Scheme::USL:
       p2g<Kernel, Scatter::All, How>();
+      loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, nodes());
       nodal_velocity_and_solve<Momentum::Keep>(dt);
       g2p<Kernel, AfterGather::None, How>(dt);
       update_stress<Kernel, AfterStress::Move>(dt, field.vL);
       break;
     case Scheme::MUSL:
       p2g<Kernel, Scatter::All, How>();
+      loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, nodes());
       nodal_velocity_and_solve<Momentum::Clear>(dt);
       g2p<Kernel, AfterGather::Remap, How>(dt);
       nodal_velocity();
@@ -92,6 +96,20 @@ void ExplicitSolver<D>::step_with(double dt) {
       break;
   }
   report_faults();
+}
+
+// The factors of the step from t_n to t_n + dt. A prescribed velocity takes the mean of its function
+// over the step, (1/dt) int f dt (TimeFunction::integral): the body then moves by exactly
+// (v0 + grad . x) int_0^t f over any sequence of steps (a ramp's displacement does not depend on
+// the time step). The loads take f(t_n) (solver/load_stage.hpp).
+template <int D>
+void ExplicitSolver<D>::begin_loads(double dt) {
+  motion_scale_.resize(m_.motion.size());
+  for (std::size_t b = 0; b < m_.motion.size(); ++b) {
+    const TimeFunction& f = m_.motion[b].function;
+    motion_scale_[b] = f.is_one() ? 1.0 : f.integral(time_, time_ + dt) / dt;
+  }
+  loads_.begin_step(m_.loads, m_.particles, m_.body_names.size(), time_);
 }
 
 namespace {
@@ -600,22 +618,26 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
 // Prescribed components take the prescribed value, evaluated at the start-of-step position.
 template <int D>
 inline void ExplicitSolver<D>::impose_motion(std::size_t i, Vec<D>& v) const {
-  const auto& motion = m_.motion[m_.particles.body_p[i]];
+  const auto body = static_cast<std::size_t>(m_.particles.body_p[i]);
+  const auto& motion = m_.motion[body];
   if (!motion.any) return;
+  const double f = motion_scale_[body];  // the function of time's factor for this step
   for (int d = 0; d < D; ++d)
-    if (motion.prescribed[d]) v[d] = motion.velocity(d, m_.particles.x_p[i]);
+    if (motion.prescribed[d]) v[d] = f * motion.velocity(d, m_.particles.x_p[i]);
 }
 
 // The same for APIC's affine matrix: a prescribed component v_d = v0_d + grad_d . x has the
 // gradient grad_d as row d of C_p.
 template <int D>
 inline void ExplicitSolver<D>::impose_motion(std::size_t i, Vec<D>& v, Mat<D>& C) const {
-  const auto& motion = m_.motion[m_.particles.body_p[i]];
+  const auto body = static_cast<std::size_t>(m_.particles.body_p[i]);
+  const auto& motion = m_.motion[body];
   if (!motion.any) return;
+  const double f = motion_scale_[body];
   for (int d = 0; d < D; ++d)
     if (motion.prescribed[d]) {
-      v[d] = motion.velocity(d, m_.particles.x_p[i]);
-      C.row(d) = motion.grad.row(d);
+      v[d] = f * motion.velocity(d, m_.particles.x_p[i]);
+      C.row(d) = f * motion.grad.row(d);
     }
 }
 

@@ -17,6 +17,7 @@
 // The stages work on nodal field 0 of the grid (nodes()), the only one today.
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/grid/block_schedule.hpp"
+#include "tsuchi/solver/load_stage.hpp"
 
 #include <algorithm>
 #include <array>
@@ -121,6 +122,11 @@ class ExplicitSolver {
   std::vector<Voigt<D>> deferred_eps_;  // USF: this step's strain increments, for the domain update
   BlockSchedule<D> schedule_;           // colour-by-colour scatter order, brought up to date every step
   typename Particles<D>::Scratch sort_scratch_;  // storage for the periodic reordering
+  // Loads (solver/load_stage.hpp) and, per body, the factor of its prescribed velocity in this step:
+  // the mean of its function over the step (begin_loads()).
+  void begin_loads(double dt);
+  LoadStage<D> loads_;
+  std::vector<double> motion_scale_;
 };
 
 extern template class ExplicitSolver<2>;

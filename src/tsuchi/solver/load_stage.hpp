@@ -1,0 +1,121 @@
+#pragma once
+// The stage that adds the input's [[loads]] (model/loads.hpp) to the nodal force, after the p2g
+// pass that sums the internal force (USF: p2g<Force>; USL, MUSL: p2g<All>):
+//   body forces  f_i += sum_p S_ip m_p a_b(t)      (a_b = f(t) b / rho, per body: V_p0 b f(t))
+//   surface      f_i += sum_p S_ip F_p f(t)        (F_p = -p a_p or t |a_p|, over the loaded particles)
+//   node sets    f_i += F_i f(t)                   (only where the node carries mass)
+// at the particles' start-of-step positions, with every function taken at the start of the step,
+// as the gravity is (the explicit update of eq 4 uses the force at t_n).
+//
+// A node without mass has no velocity (velocity_at() gives it 0 and the solve skips it), so a force
+// on it would act on nothing: a node-set load there is dropped until material reaches the node.
+//
+// Same bits on any thread count: body forces go through the colour-by-colour scatter, in which
+// every node sums in a fixed order; the loaded boundary particles are few, and are added by one
+// thread in the order of their ids, whatever their storage order. Their storage indices are looked
+// up again whenever the particles have been reordered (the periodic sort, a restart).
+#include "tsuchi/grid/block_schedule.hpp"
+#include "tsuchi/model/loads.hpp"
+#include "tsuchi/shape/stencil.hpp"
+
+#include <algorithm>
+#include <vector>
+
+namespace tsuchi {
+
+template <int D>
+class LoadStage {
+ public:
+  // The factors f(t) of the step starting at t, and the loaded particles' storage indices.
+  void begin_step(const Loads<D>& loads, const Particles<D>& p, std::size_t bodies, double t) {
+    active_ = !loads.empty();
+    if (!active_) return;
+    surface_f_.clear(), nodal_f_.clear();
+    for (const auto& l : loads.surface) surface_f_.push_back(l.function(t));
+    for (const auto& l : loads.nodal) nodal_f_.push_back(l.function(t));
+    body_a_.assign(bodies, Vec<D>::Zero());
+    body_force_ = false;
+    for (const auto& l : loads.body) {
+      const double f = l.function(t);
+      for (std::size_t b = 0; b < bodies && b < l.acceleration.size(); ++b) body_a_[b] += f * l.acceleration[b];
+    }
+    for (const Vec<D>& a : body_a_) body_force_ = body_force_ || a != Vec<D>::Zero();
+    if (!indices_valid(loads, p)) find_indices(loads, p);
+  }
+
+  template <class Kernel>
+  void apply(const Loads<D>& loads, const Grid<D>& g, const Particles<D>& p, const BlockSchedule<D>& schedule,
+             double mass_floor, NodalField<D>& n) const {
+    if (!active_) return;
+    Vec<D>* const f_g = n.f.data();
+    if (body_force_) {
+      schedule.scatter([&](std::size_t i) {
+        const Vec<D>& a = body_a_[static_cast<std::size_t>(p.body_p[i])];
+        if (a != Vec<D>::Zero()) spread<Kernel>(g, p, i, Vec<D>(p.m_p[i] * a), f_g);
+      });
+    }
+    for (std::size_t l = 0; l < loads.surface.size(); ++l) {
+      const auto& load = loads.surface[l];
+      const double f = surface_f_[l];
+      if (f == 0.0) continue;
+      for (std::size_t e = 0; e < load.id.size(); ++e) spread<Kernel>(g, p, index_[l][e], f * load.force[e], f_g);
+    }
+    const auto& tiles = schedule.active_tiles();
+    for (std::size_t l = 0; l < loads.nodal.size(); ++l) {
+      const auto& load = loads.nodal[l];
+      for (std::size_t e = 0; e < load.node.size(); ++e) {
+        const std::int64_t k = load.node[e];
+        // An inactive tile's slots are stale (p2g clears a tile only when it becomes active).
+        if (!std::binary_search(tiles.begin(), tiles.end(), static_cast<std::int32_t>(k / Grid<D>::kTileNodes))) continue;
+        if (n.m[static_cast<std::size_t>(k)] > mass_floor) f_g[k] += nodal_f_[l] * load.force[e];
+      }
+    }
+  }
+
+ private:
+  template <class Kernel>
+  static void spread(const Grid<D>& g, const Particles<D>& p, std::size_t i, const Vec<D>& F, Vec<D>* f_g) {
+    Stencil<D, Kernel> st;
+    st.compute(g, p.x_p[i], p.l_p[i]);
+    st.scatter([&](double T, const std::array<double, D - 1>&) -> Vec<D> { return T * F; },
+               [&](std::int64_t k, double w, double, const Vec<D>& TF) { f_g[k] += w * TF; });
+  }
+
+  bool indices_valid(const Loads<D>& loads, const Particles<D>& p) const {
+    if (index_.size() != loads.surface.size()) return false;
+    for (std::size_t l = 0; l < loads.surface.size(); ++l)
+      for (std::size_t e = 0; e < loads.surface[l].id.size(); ++e) {
+        const std::size_t i = index_[l][e];
+        if (i >= p.size() || p.id_p[i] != loads.surface[l].id[e]) return false;
+      }
+    return true;
+  }
+
+  // One pass over the particles, each id looked up among the loaded ones (sorted).
+  void find_indices(const Loads<D>& loads, const Particles<D>& p) {
+    std::vector<std::int64_t> ids;
+    for (const auto& l : loads.surface) ids.insert(ids.end(), l.id.begin(), l.id.end());
+    std::sort(ids.begin(), ids.end());
+    ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+    std::vector<std::size_t> where(ids.size(), p.size());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      const auto it = std::lower_bound(ids.begin(), ids.end(), p.id_p[i]);
+      if (it != ids.end() && *it == p.id_p[i]) where[static_cast<std::size_t>(it - ids.begin())] = i;
+    }
+    index_.assign(loads.surface.size(), {});
+    for (std::size_t l = 0; l < loads.surface.size(); ++l)
+      for (const std::int64_t id : loads.surface[l].id) {
+        const std::size_t i = where[static_cast<std::size_t>(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin())];
+        if (i >= p.size()) throw std::logic_error("a loaded particle is missing from the particles");
+        index_[l].push_back(i);
+      }
+  }
+
+  bool active_ = false;
+  bool body_force_ = false;
+  std::vector<double> surface_f_, nodal_f_;   // f(t) of each load this step
+  std::vector<Vec<D>> body_a_;                // per body: sum of f(t) b / rho
+  std::vector<std::vector<std::size_t>> index_;  // per surface load, per loaded particle: its storage index
+};
+
+}  // namespace tsuchi

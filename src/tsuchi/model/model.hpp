@@ -5,6 +5,7 @@
 #include "tsuchi/grid/grid.hpp"
 #include "tsuchi/material/material.hpp"
 #include "tsuchi/model/config.hpp"
+#include "tsuchi/model/node_sets.hpp"
 #include "tsuchi/model/step_settings.hpp"
 #include "tsuchi/particles/particles.hpp"
 
@@ -35,6 +36,8 @@ struct Model {
   Particles<D> particles;
   std::vector<BodyMotion<D>> motion;        // one per body
   std::vector<std::size_t> body_particles;  // particle count per body
+  std::vector<NodeSet<D>> node_sets;        // [[boundary.nodes]], in input order
+  std::vector<std::int64_t> held_nodes;     // grid slots with a held component (fixed_g != 0), increasing
   bool rotate_initial_stress = false;       // some body holds an anisotropic sigma0 by eq (2)
 
   std::size_t bytes() const { return grid.bytes() + particles.size() * particles.bytes_per_particle(); }

@@ -12,6 +12,7 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -282,6 +283,31 @@ TEST(BaseMotion, ShakenColumnResonatesAtVsOver4H) {
   std::printf("resonance of the shaken column: %.4f Hz (Vs / 4H = %.4f Hz, %+.3f %%), peak |H| = %.1f\n", best_f, f1,
               100.0 * (best_f / f1 - 1.0), best);
   EXPECT_NEAR(best_f, f1, 0.02 * f1);
+}
+
+// The same bits on one and two threads: the shaken column (driven base) and the platen (support
+// reactions), 300 steps each.
+TEST(BaseMotion, OneAndTwoThreadsGiveTheSameBits) {
+  const Config column = read_config_file(std::string(TSUCHI_SOURCE_DIR) + "/examples/shaking_column/column.toml",
+                                         {"time.max_steps=300"});
+  const Config block = read_config_string(kBlock, "block.toml", {"time.max_steps=300", "solver.scheme=\"usf\""});
+  for (const Config* c : {&column, &block}) {
+    std::vector<std::vector<double>> results;
+    for (const int threads : {1, 2}) {
+      const int before = omp_get_max_threads();
+      omp_set_num_threads(threads);
+      Model<2> m = build_model<2>(*c);
+      const std::vector<Recorder<2>> rec = make_recorders<2>(*c, m);
+      std::vector<double> r;
+      run_simulation<2>(m, *c, no_output(), [&](const ExplicitSolver<2>& s) { r.push_back(rec.back().value(s)); });
+      omp_set_num_threads(before);
+      for (std::size_t i = 0; i < m.particles.size(); ++i)
+        r.insert(r.end(), {m.particles.x_p[i][0], m.particles.x_p[i][1], m.particles.v_p[i][0], m.particles.v_p[i][1]});
+      results.push_back(std::move(r));
+    }
+    ASSERT_EQ(results[0].size(), results[1].size());
+    EXPECT_TRUE(results[0] == results[1]) << c->source;
+  }
 }
 
 }  // namespace

@@ -285,6 +285,35 @@ TEST(BaseMotion, ShakenColumnResonatesAtVsOver4H) {
   EXPECT_NEAR(best_f, f1, 0.02 * f1);
 }
 
+// examples/shaking_table_slope without the shaking (its function set to 0) and with gravity on at
+// once, brought to rest by local damping in 1.5 s: the table (the face y_min) carries the weight of
+// the particles (0.5 %), and the horizontal forces of the table and the two walls on the soil add
+// up to 0 (1 % of the left wall's, the largest).
+TEST(BaseMotion, SlopeOnTheTableCarriesItsWeight) {
+  const Config c = read_config_file(std::string(TSUCHI_SOURCE_DIR) + "/examples/shaking_table_slope/slope.toml",
+                                    {"functions.0.formula=\"1\"", "functions.1.formula=\"0\"", "solver.damping=0.3",
+                                     "time.end=1.5", "output.frames=false"});
+  Model<2> m = build_model<2>(c);
+  const std::vector<Recorder<2>> rec = make_recorders<2>(c, m);
+  double mass = 0.0;
+  for (const double mp : m.particles.m_p) mass += mp;
+  double normal = 0.0, shear = 0.0, left = 0.0, right = 0.0;
+  run_simulation<2>(m, c, no_output(), [&](const ExplicitSolver<2>& s) {
+    shear = rec[2].value(s);
+    normal = rec[3].value(s);
+    left = rec[4].value(s);
+    right = rec[5].value(s);
+  });
+  const double weight = mass * 9.81;
+  std::printf("slope: table normal force %.1f N/m, weight %.1f N/m (%+.3f %%); horizontal: table %.1f, left wall "
+              "%.1f, right wall %.1f, sum %.3g N/m\n",
+              normal, weight, 100.0 * (normal / weight - 1.0), shear, left, right, shear + left + right);
+  EXPECT_NEAR(normal, weight, 0.005 * weight);
+  // At rest the horizontal forces on the soil balance (no horizontal load): the table's set and
+  // the walls' share no node.
+  EXPECT_NEAR(shear + left + right, 0.0, 0.01 * std::abs(left));
+}
+
 // The same bits on one and two threads: the shaken column (driven base) and the platen (support
 // reactions), 300 steps each.
 TEST(BaseMotion, OneAndTwoThreadsGiveTheSameBits) {

@@ -126,6 +126,15 @@ TEST(Restart, ElasticRunContinuesBitwise) {
   expect_bitwise_restart({(tmp.path / "column.toml").string(), {}}, tmp, 137, 400);
 }
 
+// A base shaken by an acceleration pulse (examples/shaking_column, with the base's reaction
+// recorded): the driven velocity is a function of the time alone, so the restart split inside the
+// pulse continues bitwise.
+TEST(Restart, ShakenBaseContinuesBitwise) {
+  TempDir tmp("tsuchi_restart");
+  const Case c{std::string(TSUCHI_SOURCE_DIR) + "/examples/shaking_column/column.toml", {"output.interval=0.05"}};
+  expect_bitwise_restart(c, tmp, 97, 300);
+}
+
 TEST(Restart, MohrCoulombTriaxialContinuesBitwise) {
   TempDir tmp("tsuchi_restart");
   // The triaxial test 1 with the cap fixed on a 5 mm grid, frames every 50 steps or so; the split

@@ -53,7 +53,9 @@ struct Grid {
   // makes another, of the same size and zeroed, and returns its number. Only the fields asked for
   // take memory. The boundary conditions (fixed_g) hold for every field.
   std::vector<NodalField<D>> fields;
-  std::vector<std::uint8_t> fixed_g;    // bit d set: velocity component d held at zero
+  // Bit d set: velocity component d held, at zero (a fixed or roller face, `fix`) or at a driven
+  // base motion (model/node_sets.hpp), which the solver sets after its passes over the nodes.
+  std::vector<std::uint8_t> fixed_g;
 
   // Per axis, for i = -kEdge .. n_nodes - 1 + kEdge (entry i + kEdge): axis_offset(d, i) clamped
   // into the grid, and 1 for a node of the grid, 0 for the kEdge nodes beyond each edge, which a

@@ -8,6 +8,7 @@
 #include "tsuchi/io/function_reader.hpp"
 #include "tsuchi/io/load_reader.hpp"
 #include "tsuchi/io/material_reader.hpp"
+#include "tsuchi/io/node_set_reader.hpp"
 #include "tsuchi/io/particle_file_reader.hpp"
 #include "tsuchi/io/shape_reader.hpp"
 #include "tsuchi/io/toml_section.hpp"
@@ -343,10 +344,12 @@ void read_boundary(Section& s, Config& c) {
     for (int d = 0; d < c.dimension; ++d)
       if (ns.max[d] < ns.min[d])
         n.fail("max", fmt::format("expected max >= min along {}, got {} < {}", axis_name[d], ns.max[d], ns.min[d]));
-    const toml::node& fix = n.need("fix", "an array of axis names, e.g. [\"x\", \"y\"]");
-    auto a = fix.as_array();
-    if (!a || a->empty()) n.fail("fix", fmt::format("expected a non-empty array of axis names, got {}", describe(fix)));
-    for (const auto& e : *a) ns.fix[read_axis(n, "fix", e, c.dimension)] = true;
+    if (const toml::node* fix = n.get("fix")) {
+      auto a = fix->as_array();
+      if (!a || a->empty()) n.fail("fix", fmt::format("expected a non-empty array of axis names, got {}", describe(*fix)));
+      for (const auto& e : *a) ns.fix[read_axis(n, "fix", e, c.dimension)] = true;
+    }
+    read_node_set_motion(n, c, ns);  // name, velocity / acceleration (base motion)
     n.finish();
     c.boundary.node_sets.push_back(ns);
   }
@@ -489,6 +492,38 @@ std::uint64_t fingerprint(const toml::table& root) {
   return f.h;
 }
 
+// A reaction recorder's grid face (boundary = "y_min") or named node set (nodes = "NAME").
+void read_reaction_target(Section& s, const Config& c, RecorderConfig& r) {
+  if (s.has("boundary")) {
+    const std::string face = s.string("boundary", "a grid face such as \"y_min\"");
+    std::vector<std::string> faces;
+    for (int d = 0; d < c.dimension; ++d)
+      for (const char* side : {"min", "max"}) faces.push_back(fmt::format("{}_{}", axis_name[d], side));
+    const auto it = std::find(faces.begin(), faces.end(), face);
+    if (it == faces.end())
+      s.fail("boundary", fmt::format("expected a grid face ({}), got \"{}\"", quoted_list(faces), printable(face)));
+    r.face = static_cast<int>(it - faces.begin());
+  } else {
+    s.get("boundary");
+  }
+  if (s.has("nodes")) {
+    const std::string name = s.string("nodes", "the name of a [[boundary.nodes]] set");
+    const auto& sets = c.boundary.node_sets;
+    const auto it = std::find_if(sets.begin(), sets.end(), [&](const NodeSetConfig& n) { return n.name == name; });
+    if (name.empty() || it == sets.end()) {
+      std::vector<std::string> named;
+      for (const auto& n : sets)
+        if (!n.name.empty()) named.push_back(n.name);
+      s.fail("nodes", fmt::format("expected the name of a [[boundary.nodes]] set ({}), got \"{}\"",
+                                  named.empty() ? std::string("none is named: give the set a 'name'") : quoted_list(named),
+                                  printable(name)));
+    }
+    r.node_set = static_cast<int>(it - sets.begin());
+  } else {
+    s.get("nodes");
+  }
+}
+
 void read_recorder(Section& s, Config& c) {
   RecorderConfig r;
   const int dim = c.dimension;
@@ -510,27 +545,45 @@ void read_recorder(Section& s, Config& c) {
   } else {
     s.get("body");
   }
+  read_reaction_target(s, c, r);  // boundary = "y_min" or nodes = "NAME"
   if (s.has("min")) r.min = s.vector("min", dim, "m (initial positions)", any);
   else s.get("min");
   if (s.has("max")) r.max = s.vector("max", dim, "m (initial positions)", any);
   else s.get("max");
   r.quantity = s.string("quantity", "a particle quantity, unbalanced_force_ratio or reaction_x/y/z");
   if (const int axis = r.reaction_axis(); axis >= 0) {
-    // The force holding one prescribed-motion body: the body's total, no subset to choose or reduce.
+    // The force holding one prescribed-motion body, or the supports' force at a grid face or node
+    // set: a total, no subset to choose or reduce.
     if (axis >= dim)
       s.fail("quantity", fmt::format("recorder \"{}\": \"{}\" has no axis in a {}D model", r.name, r.quantity, dim));
-    if (r.body < 0)
-      s.fail("quantity", fmt::format("recorder \"{}\": quantity \"{}\" is the force on one body; add body = \"NAME\" "
-                                     "naming a body with prescribed_velocity", r.name, r.quantity));
+    const int targets = (r.body >= 0) + (r.face >= 0) + (r.node_set >= 0);
+    if (targets > 1)
+      s.fail(r.node_set >= 0 ? "nodes" : "boundary",
+             fmt::format("recorder \"{}\": quantity \"{}\" is the force on one body, grid face or node set; "
+                         "expected only one of 'body', 'boundary' and 'nodes'", r.name, r.quantity));
+    if (targets == 0)
+      s.fail("quantity", fmt::format("recorder \"{}\": quantity \"{}\" is the force on one body, grid face or node "
+                                     "set; add body = \"NAME\" (a body with prescribed_velocity), boundary = \"y_min\" "
+                                     "(a held grid face) or nodes = \"NAME\" (a named [[boundary.nodes]] set)",
+                                     r.name, r.quantity));
+  }
+  if (const int axis = r.reaction_axis(); axis >= 0 && r.body >= 0) {
     const BodyConfig& b = c.bodies[static_cast<std::size_t>(r.body)];
     if (!b.prescribed[static_cast<std::size_t>(axis)])
       s.fail("quantity", fmt::format("recorder \"{}\": body \"{}\" has no prescribed_velocity.{}, so nothing holds it "
                                      "along {} and its reaction is 0; expected a prescribed component",
                                      r.name, b.name, "xyz"[axis], "xyz"[axis]));
+  }
+  if (r.reaction_axis() >= 0) {
     for (const char* key : {"min", "max", "reduction"})
       if (s.has(key))
-        s.fail(key, fmt::format("recorder \"{}\": quantity \"{}\" is the force on the whole body; it takes no '{}' "
-                                "(remove it)", r.name, r.quantity, key));
+        s.fail(key, fmt::format("recorder \"{}\": quantity \"{}\" is the force on the whole {}; it takes no '{}' "
+                                "(remove it)", r.name, r.quantity,
+                                r.body >= 0 ? "body" : r.face >= 0 ? "face" : "node set", key));
+  } else if (r.face >= 0 || r.node_set >= 0) {
+    const char* key = r.face >= 0 ? "boundary" : "nodes";
+    s.fail(key, fmt::format("recorder \"{}\": '{}' selects the nodes of a support force; expected quantity "
+                            "reaction_x/y{} with it, got \"{}\"", r.name, key, dim == 3 ? "/z" : "", r.quantity));
   } else if (r.whole_model()) {
     // One number for the whole model: no particle set to choose or reduce.
     for (const char* key : {"body", "min", "max", "reduction"})

@@ -118,9 +118,20 @@ struct BodyConfig {
   ImperfectionConfig imperfection;
 };
 
+// [[boundary.nodes]]: the grid nodes in a box, with components held at zero (`fix`) and/or driven
+// (base motion, docs/input.md): component d with driven[d] follows v_d(t) = value_d f(t) (Velocity)
+// or v_d(t) = initial_velocity_d + value_d * integral_0^t f (Acceleration), f = functions[function]
+// (1 when function < 0). Where sets overlap, the later set decides a component it names.
 struct NodeSetConfig {
+  enum class Drive { None, Velocity, Acceleration };
+  std::string name;  // "" when unnamed; a reaction recorder names the set by it
   Triple min{}, max{};
   std::array<bool, 3> fix{false, false, false};
+  Drive drive = Drive::None;
+  std::array<bool, 3> driven{false, false, false};
+  Triple value{};             // m/s (Velocity) or m/s^2 (Acceleration)
+  Triple initial_velocity{};  // Acceleration: v(0), m/s
+  int function = -1;          // index in Config::functions, -1: f = 1
 };
 
 struct BoundaryConfig {
@@ -202,7 +213,9 @@ struct OutputConfig {
 inline constexpr const char* kUnbalancedForceRatio = "unbalanced_force_ratio";
 
 // reaction_x, reaction_y, reaction_z: the force that holds a prescribed-motion body to its motion
-// (ExplicitSolver::reaction()). A recorder of it names the body and takes no min, max or reduction.
+// (ExplicitSolver::reaction()), or that the supports exert at a grid face or node set
+// (ExplicitSolver::support_reaction()). A recorder of it names the body, the face or the node set
+// and takes no min, max or reduction.
 inline constexpr std::string_view kReactionPrefix = "reaction_";
 
 struct RecorderConfig {
@@ -218,6 +231,10 @@ struct RecorderConfig {
   bool from_solver() const { return whole_model() || reaction_axis() >= 0; }
   std::string name;
   int body = -1;                       // -1: every body
+  // reaction_*: the support force at a grid face (axis * 2 + side; -1: none) or a named node set
+  // (index in BoundaryConfig::node_sets; -1: none) instead of a body.
+  int face = -1;
+  int node_set = -1;
   std::optional<Triple> min, max;      // box of initial positions; unset: no limit
   std::string quantity;                // e.g. "stress_yy", "displacement_x", "max_shear_strain"
   Reduction reduction = Reduction::Mean;

@@ -20,44 +20,6 @@ namespace tsuchi {
 
 namespace {
 
-template <int D>
-void set_boundary_conditions(const Config& c, Grid<D>& g) {
-  const std::size_t n = g.size();
-  std::vector<std::size_t> set_nodes(c.boundary.node_sets.size(), 0);
-  for (std::size_t idx = 0; idx < n; ++idx) {
-    if (!g.is_node(static_cast<std::int64_t>(idx))) continue;
-    const auto ijk = g.ijk(static_cast<std::int64_t>(idx));
-    std::uint8_t mask = 0;
-    for (int d = 0; d < D; ++d)
-      for (int side = 0; side < 2; ++side) {
-        const bool on_face = side == 0 ? ijk[d] == 0 : ijk[d] == g.n_nodes[d] - 1;
-        if (!on_face) continue;
-        switch (c.boundary.faces[d][side]) {
-          case FaceCondition::Fixed: mask |= static_cast<std::uint8_t>((1u << D) - 1); break;
-          case FaceCondition::Roller: mask |= static_cast<std::uint8_t>(1u << d); break;
-          case FaceCondition::Free: break;
-        }
-      }
-    const Vec<D> x = g.position(ijk);
-    const double tol = 1e-9 * g.h;
-    for (std::size_t s = 0; s < c.boundary.node_sets.size(); ++s) {
-      const auto& set = c.boundary.node_sets[s];
-      bool inside = true;
-      for (int d = 0; d < D; ++d) inside = inside && x[d] >= set.min[d] - tol && x[d] <= set.max[d] + tol;
-      if (!inside) continue;
-      ++set_nodes[s];
-      for (int d = 0; d < D; ++d)
-        if (set.fix[d]) mask |= static_cast<std::uint8_t>(1u << d);
-    }
-    g.fixed_g[idx] = mask;
-  }
-  for (std::size_t s = 0; s < set_nodes.size(); ++s)
-    if (set_nodes[s] == 0)
-      throw InputError(fmt::format("{}: key 'boundary.nodes.{}': the box holds no grid node; grid nodes lie "
-                                   "at multiples of cell_size from grid.origin",
-                                   c.source, s));
-}
-
 GeostaticFrame geostatic_frame(const Config& c) {
   GeostaticFrame f;
   for (int d = 0; d < c.dimension; ++d)
@@ -466,7 +428,7 @@ Model<D> build_model(const Config& c) {
     throw InputError(fmt::format("{}: the grid has {:.3g} nodes; at most 2e9 are supported", c.source, nodes));
   check_memory<D>(c, m.grid);
   m.grid.allocate();
-  set_boundary_conditions(c, m.grid);
+  set_boundary_conditions(c, m.grid, m.node_sets, m.held_nodes);
   const std::vector<Placement<D>> placed = place_bodies<D>(c, m.grid);
   for (int b = 0; b < static_cast<int>(c.bodies.size()); ++b) add_body<D>(c, b, placed[static_cast<std::size_t>(b)], m);
 

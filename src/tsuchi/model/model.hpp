@@ -6,6 +6,7 @@
 #include "tsuchi/material/material.hpp"
 #include "tsuchi/model/config.hpp"
 #include "tsuchi/model/loads.hpp"
+#include "tsuchi/model/node_sets.hpp"
 #include "tsuchi/model/step_settings.hpp"
 #include "tsuchi/particles/particles.hpp"
 
@@ -39,6 +40,8 @@ struct Model {
   std::vector<BodyMotion<D>> motion;        // one per body
   std::vector<std::size_t> body_particles;  // particle count per body
   std::vector<double> body_volume;          // initial volume per body (m^3; m^2 in 2D)
+  std::vector<NodeSet<D>> node_sets;        // [[boundary.nodes]], in input order
+  std::vector<std::int64_t> held_nodes;     // grid slots with a held component (fixed_g != 0), increasing
   bool rotate_initial_stress = false;       // some body holds an anisotropic sigma0 by eq (2)
   Loads<D> loads;                           // the input's [[loads]] (model/loads.hpp)
 

@@ -12,8 +12,49 @@
 
 namespace tsuchi {
 
+namespace {
+
+// The held nodes of a reaction recorder's face or node set, as positions in Model::held_nodes;
+// throws InputError when none of them holds the recorded component (a free face, a set that holds
+// another component only): its reaction would be 0 whatever happens.
+template <int D>
+std::vector<std::size_t> support_nodes(const RecorderConfig& c, std::size_t index, const Model<D>& model) {
+  const auto& g = model.grid;
+  const auto& held = model.held_nodes;
+  const int axis = c.reaction_axis();
+  std::vector<std::size_t> r;
+  bool holds = false;
+  const auto take = [&](std::int64_t k) {
+    const auto it = std::lower_bound(held.begin(), held.end(), k);
+    if (it == held.end() || *it != k) return;
+    r.push_back(static_cast<std::size_t>(it - held.begin()));
+    holds = holds || ((g.fixed_g[static_cast<std::size_t>(k)] >> axis) & 1u) != 0;
+  };
+  std::string what;
+  if (c.face >= 0) {
+    const int d = c.face / 2, side = c.face % 2;
+    what = fmt::format("face {}_{}", "xyz"[d], side ? "max" : "min");
+    for (const std::int64_t k : held)
+      if (g.ijk(k)[d] == (side ? g.n_nodes[d] - 1 : 0)) take(k);
+  } else {
+    const auto& set = model.node_sets[static_cast<std::size_t>(c.node_set)];
+    what = fmt::format("node set \"{}\"", set.name);
+    for (const std::int64_t k : set.nodes) take(k);
+  }
+  if (!holds)
+    throw InputError(fmt::format("{}: key 'recorders.{}': recorder \"{}\": no node of {} holds the {} component, so "
+                                 "its {} is 0; expected a {} whose condition ([boundary], [[boundary.nodes]] fix, "
+                                 "velocity or acceleration) holds {}",
+                                 model.source, index, c.name, what, "xyz"[axis], c.quantity,
+                                 c.face >= 0 ? "face" : "node set", "xyz"[axis]));
+  return r;
+}
+
+}  // namespace
+
 template <int D>
 Recorder<D>::Recorder(const RecorderConfig& config, std::size_t index, const Model<D>& model) : c_(config) {
+  if (c_.face >= 0 || c_.node_set >= 0) held_ = support_nodes<D>(c_, index, model);
   if (c_.from_solver()) return;  // no particle set
   const auto q = find_recorder_quantity(c_.quantity, D);
   if (!q) throw InputError(fmt::format("recorder \"{}\": unknown quantity \"{}\"", c_.name, c_.quantity));
@@ -61,7 +102,10 @@ const std::vector<std::size_t>& Recorder<D>::indices(const Particles<D>& p) cons
 template <int D>
 double Recorder<D>::value(const ExplicitSolver<D>& solver) const {
   if (c_.whole_model()) return c_.scale * solver.unbalanced_force_ratio() + c_.offset;
-  if (const int axis = c_.reaction_axis(); axis >= 0) return c_.scale * solver.reaction(c_.body)[axis] + c_.offset;
+  if (const int axis = c_.reaction_axis(); axis >= 0) {
+    const Vec<D> r = c_.body >= 0 ? solver.reaction(c_.body) : solver.support_reaction(held_);
+    return c_.scale * r[axis] + c_.offset;
+  }
   return value(solver.model().particles);
 }
 

@@ -38,6 +38,8 @@ class Recorder {
   // Membership by particle id, not storage index: particles are reordered during a run (and a
   // restart brings them back in the saved order), while ids stay with their particles.
   std::vector<std::uint8_t> member_;
+  // A support reaction's nodes: positions in Model::held_nodes of the face's or node set's nodes.
+  std::vector<std::size_t> held_;
   std::size_t count_ = 0;
   // Storage indices of the set and their ids, found again whenever the particles were reordered
   // (a check of count_ ids per evaluation, a pass over all particles only after a reordering).

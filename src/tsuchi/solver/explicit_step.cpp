@@ -63,6 +63,7 @@ void ExplicitSolver<D>::step_with(double dt) {
   // Local damping acts on the free motion only: a component a prescribed body drives is held, and
   // a damping force there would only add to the force holding it (its reaction), 5 % of the
   // nodal force with damping 0.05, as a fixed component takes none either.
+  held_nodes_.begin_step(m_, time_, dt);  // the base motion of this step
   undamped_driven_ = m_.step.damping > 0.0 && drives_bodies();
   if (undamped_driven_) mark_driven_nodes<Kernel>();
   const auto& field = nodes();
@@ -91,7 +92,7 @@ void ExplicitSolver<D>::step_with(double dt) {
       loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, nodes());
       nodal_velocity_and_solve<Momentum::Clear>(dt);
       g2p<Kernel, AfterGather::Remap, How>(dt);
-      nodal_velocity();
+      nodal_velocity(At::End);
       update_stress<Kernel, AfterStress::Move>(dt, field.v);
       break;
   }
@@ -265,20 +266,26 @@ inline Vec<D> ExplicitSolver<D>::acceleration_at(const NodalField<D>& n, std::in
   return a;
 }
 
+// Driven components (base motion) then take their velocity at the start or the end of the step,
+// eq (B1) of solver/held_nodes.hpp: the end after MUSL's remap, whose velocities are end-of-step ones.
 template <int D>
-void ExplicitSolver<D>::nodal_velocity() {
+void ExplicitSolver<D>::nodal_velocity(At driven_at) {
   auto& n = nodes();
   schedule_.for_active_nodes([&](std::int64_t k) { n.v[k] = velocity_at(n, k); });
+  held_nodes_.set_velocity(m_, schedule_, n, driven_at);
 }
 
-// a_g, and v^L = v_g + dt a_g.
+// a_g, and v^L = v_g + dt a_g. The held nodes' free momenta are booked first for the support
+// reactions (eq R2), and driven components get their motion after, eq (B1).
 template <int D>
 void ExplicitSolver<D>::solve_grid(double dt) {
   auto& n = nodes();
+  held_nodes_.book(m_, schedule_, n);
   schedule_.for_active_nodes([&](std::int64_t k) {
     n.a[k] = acceleration_at(n, k, n.v[k]);
     n.vL[k] = n.v[k] + dt * n.a[k];
   });
+  held_nodes_.set_solve(m_, schedule_, n);
 }
 
 // nodal_velocity() then solve_grid() in one pass over the nodes, for USL and MUSL, where nothing
@@ -287,6 +294,7 @@ template <int D>
 template <typename ExplicitSolver<D>::Momentum Then>
 void ExplicitSolver<D>::nodal_velocity_and_solve(double dt) {
   auto& n = nodes();
+  held_nodes_.book(m_, schedule_, n);  // before p is cleared: see solve_grid
   schedule_.for_active_nodes([&](std::int64_t k) {
     const Vec<D> v = velocity_at(n, k), a = acceleration_at(n, k, v);
     n.v[k] = v;
@@ -294,6 +302,7 @@ void ExplicitSolver<D>::nodal_velocity_and_solve(double dt) {
     n.vL[k] = v + dt * a;
     if constexpr (Then == Momentum::Clear) n.p[k] = Vec<D>::Zero();
   });
+  held_nodes_.set_solve(m_, schedule_, n);
 }
 
 // Grid to particle, eqs (7)-(8): FLIP v_p += dt sum S a_g, blended with PIC sum S v^L when asked.

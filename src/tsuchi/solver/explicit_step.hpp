@@ -17,11 +17,13 @@
 // The stages work on nodal field 0 of the grid (nodes()), the only one today.
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/grid/block_schedule.hpp"
+#include "tsuchi/solver/held_nodes.hpp"
 #include "tsuchi/solver/load_stage.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 #include <string>
 
@@ -51,6 +53,14 @@ class ExplicitSolver {
   // eq (R1) in explicit_step.cpp: pushing a footing down into soil gives a negative y component.
   // Zero for a body without prescribed motion; NaN before the first step of this process.
   Vec<D> reaction(int body) const;
+  // The force (N; N/m in 2D) the supports exerted on the material in the latest step at the held
+  // nodes `held` (positions in Model::held_nodes: a face's or a node set's), over the components
+  // held there, eq (R2) in solver/held_nodes.cpp: a block resting on a fixed base under gravity
+  // gives +weight along up. NaN before the first step of this process.
+  Vec<D> support_reaction(const std::vector<std::size_t>& held) const {
+    if (!stepped_) return Vec<D>::Constant(std::numeric_limits<double>::quiet_NaN());
+    return held_nodes_.reaction(m_, m_.grid.field(0), held);
+  }
   // Particles whose expansion the latest step held because their stress was released in tension
   // (solver.hold_released_volume; StepSettings::hold_released_volume).
   std::int64_t released_particles() const { return released_; }
@@ -78,7 +88,8 @@ class ExplicitSolver {
   template <class Kernel, Scatter What, Transfer How> void p2g();
   Vec<D> velocity_at(const NodalField<D>& n, std::int64_t k) const;
   Vec<D> acceleration_at(const NodalField<D>& n, std::int64_t k, const Vec<D>& v) const;
-  void nodal_velocity();
+  using At = typename HeldNodes<D>::At;
+  void nodal_velocity(At driven_at = At::Start);
   void solve_grid(double dt);
   template <Momentum Then> void nodal_velocity_and_solve(double dt);
   template <class Kernel, AfterGather Then, Transfer How> void g2p(double dt);
@@ -112,6 +123,7 @@ class ExplicitSolver {
   double step_dt_ = 0.0;       // length of the latest step
   Vec<D> gravity_ = Vec<D>::Zero();  // gravity of the latest step: StepSettings::gravity times its function
   bool undamped_driven_ = false;  // this step's driven_ marks exempt held components from damping
+  HeldNodes<D> held_nodes_;  // driven components of the grid (base motion), support reactions
   std::vector<Vec<D>> held_impulse_;  // per particle of a prescribed body: m (v_held - v_free) of the latest step
   bool stepped_ = false;                     // a step ran in this process: the grid holds its solve
   mutable double ratio_ = 0.0;               // unbalanced_force_ratio() of step ratio_step_

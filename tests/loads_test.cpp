@@ -2,7 +2,9 @@
 // a table's values and exact integrals, a formula's integral; the exposed faces of a staircase
 // surface against the divergence theorem; a block under a ramped surface pressure at rest against
 // the 1D constrained-modulus solution; node-set forces summing to the load; a gravity ramp against
-// constant gravity; a platen whose prescribed velocity is ramped moving by exactly v0 int f dt.
+// constant gravity; a body force; a platen whose prescribed velocity is ramped moving by exactly
+// v0 int f dt, and its reaction at rest; examples/surcharge against the strip-load solution; the
+// loads through reordering and a restart.
 #include "tsuchi/core/time_function.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"

@@ -2,7 +2,9 @@
 // a table's values and exact integrals, a formula's integral; the exposed faces of a staircase
 // surface against the divergence theorem; a block under a ramped surface pressure at rest against
 // the 1D constrained-modulus solution; node-set forces summing to the load; a gravity ramp against
-// constant gravity; a platen whose prescribed velocity is ramped moving by exactly v0 int f dt.
+// constant gravity; a body force; a platen whose prescribed velocity is ramped moving by exactly
+// v0 int f dt, and its reaction at rest; examples/surcharge against the strip-load solution; the
+// loads through reordering and a restart.
 #include "tsuchi/core/time_function.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
@@ -377,6 +379,20 @@ prescribed_velocity_function = "pulse"
   std::printf("platen: displacement v0 int f = %.9g m, largest difference %.3g m\n", expected, worst);
   EXPECT_LT(worst, 1e-15);
   EXPECT_NEAR(expected, -0.1 * (0.005 + 0.01 + 0.0075), 1e-15);
+
+  // Held still after the pulse, the platen keeps the block compressed by |expected|: at rest the
+  // force holding the platen (reaction_y) is the block's stress times its width, -M |expected| / L W,
+  // M the constrained modulus. The node at the interface (y = 1 m) carries both bodies, and the
+  // first node only the platen reaches is a cell higher: the platen's lowest cell (of the same
+  // soil) is compressed with the block, L = 1 m + 0.05 m.
+  const Config rest = read_config_string(with_platen, "platen.toml", {"time.end=2.0"});
+  Model<2> m2 = build_model<2>(rest);
+  Vec<2> reaction = Vec<2>::Zero();
+  run_simulation<2>(m2, rest, no_output(), [&](const ExplicitSolver<2>& s) { reaction = s.reaction(1); });
+  const double M = 1.0e7 * 0.7 / (1.3 * 0.4), ref = -M * std::abs(expected) / 1.05 * 0.2;
+  std::printf("platen at rest: reaction_y %.2f N/m, -M delta / L W = %.2f N/m (%.2f %%)\n", reaction[1], ref,
+              100.0 * (reaction[1] - ref) / ref);
+  EXPECT_NEAR(reaction[1], ref, 0.02 * std::abs(ref));
 }
 
 // sigma_z (compression positive) at (x, depth z) under a pressure q on |xi| <= b of an elastic

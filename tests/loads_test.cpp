@@ -8,6 +8,7 @@
 #include "tsuchi/core/time_function.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
+#include "tsuchi/run/recorder.hpp"
 #include "tsuchi/run/simulation.hpp"
 #include "tsuchi/shape/gimp.hpp"
 #include "tsuchi/solver/load_stage.hpp"
@@ -494,3 +495,35 @@ TEST(Loads, RestartContinuesBitwise) {
 }
 
 }  // namespace
+
+// Issue 16's check "reaction = applied load": the block under a surface pressure p ramped over
+// 0.3 s, fixed base, rollers on the sides (they hold x only): at rest the base's reaction
+// (reaction_y of the face y_min, the recorder of a support) is p times the width, +p W upward.
+TEST(Loads, BaseReactionEqualsThePressureTimesTheWidth) {
+  const double p = 1.0e4, W = 0.2;
+  const Config c = read_config_string(block(R"(
+[[functions]]
+name = "ramp"
+table = [[0.0, 0.0], [0.3, 1.0]]
+
+[[loads]]
+kind = "traction"
+body = "block"
+plane = {point = [0.0, 1.0], normal = [0.0, 1.0]}
+pressure = 1.0e4
+function = "ramp"
+
+[[recorders]]
+name = "base_force"
+boundary = "y_min"
+quantity = "reaction_y"
+)"),
+                                      "block.toml", {});
+  Model<2> m = build_model<2>(c);
+  const std::vector<Recorder<2>> rec = make_recorders<2>(c, m);
+  double R = 0.0;
+  run_simulation<2>(m, c, no_output(), [&](const ExplicitSolver<2>& s) { R = rec[0].value(s); });
+  std::printf("block under p = %.0f Pa on %.2f m: base reaction %.4f N/m vs p W = %.4f N/m (%+.4f %%)\n", p, W, R, p * W,
+              100.0 * (R / (p * W) - 1.0));
+  EXPECT_NEAR(R, p * W, 0.005 * p * W);
+}

@@ -13,6 +13,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -32,7 +33,17 @@ bool small_enough(const Config& c) {
   for (int d = 0; d < c.dimension; ++d) nodes *= c.grid.cells[d] + 1.0;
   for (const auto& b : c.bodies) {
     double n = 1.0;
-    for (int d = 0; d < c.dimension; ++d) n *= (b.max[d] - b.min[d]) / c.grid.cell_size * b.particles_per_cell[d] + 2.0;
+    if (b.particles) {
+      n = static_cast<double>(b.particles->x.size());
+    } else if (b.shape) {
+      // The lattice of the shape's bounds clipped to the grid, as build_model places it.
+      const geometry::Bounds bb = b.shape->bounds();
+      for (int d = 0; d < c.dimension; ++d) {
+        const double lo = std::max(bb.min[d], c.grid.origin[d]);
+        const double hi = std::min(bb.max[d], c.grid.origin[d] + c.grid.extent[d]);
+        n *= std::max(0.0, hi - lo) / c.grid.cell_size * b.particles_per_cell[d] + 2.0;
+      }
+    }
     if (!std::isfinite(n)) return false;
     particles += n;
   }

@@ -19,7 +19,9 @@ using Triple = std::array<double, 3>;
 
 enum class Scheme { USF, USL, MUSL };
 enum class ShapeKind { Linear, UGimp, Gimp };
-enum class FaceCondition { Free, Roller, Fixed };
+// Friction: a rigid wall the material may slide along (Coulomb, BoundaryConfig::face_friction) and
+// leave, but not cross (model/contact.hpp).
+enum class FaceCondition { Free, Roller, Fixed, Friction };
 // How velocities go between particles and grid: FLIP (blended with PIC by pic_fraction) or APIC
 // (Jiang et al. 2015), which carries an affine velocity field per particle.
 enum class VelocityTransfer { Flip, Apic };
@@ -137,7 +139,19 @@ struct NodeSetConfig {
 struct BoundaryConfig {
   // faces[axis][0] is the lower face, [1] the upper one.
   std::array<std::array<FaceCondition, 2>, 3> faces{};
+  // FaceCondition::Friction: the wall's Coulomb coefficient, [axis][side]; +infinity for "rough".
+  std::array<std::array<double, 2>, 3> face_friction{};
   std::vector<NodeSetConfig> node_sets;
+};
+
+// [[contact]]: how two bodies meet (model/contact.hpp). Bodies not named in a frictional or rough
+// pair share one velocity field and so stay bonded, as every body did before contact.
+struct ContactConfig {
+  enum class Law { Frictional, Rough, Bonded };
+  int body_a = -1, body_b = -1;  // indices in Config::bodies
+  Law law = Law::Frictional;
+  double friction = 0.0;         // Law::Frictional: Coulomb coefficient mu >= 0 (0: frictionless)
+  std::string where;             // "FILE:LINE:COL: key 'contact.N'" prefix, for messages at build time
 };
 
 // A load of the input's [[loads]] (docs/input.md, model/loads.hpp), times its function of time.
@@ -261,6 +275,7 @@ struct Config {
   CheckpointConfig checkpoint;
   std::vector<RecorderConfig> recorders;
   std::vector<LoadConfig> loads;
+  std::vector<ContactConfig> contacts;
   // Hash of everything that decides the state of a run (not the end time, step limit, output,
   // checkpoint schedule, time step choice, stop bounds or title): a checkpoint restarts only a
   // configuration with the same fingerprint.

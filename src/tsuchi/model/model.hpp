@@ -5,6 +5,7 @@
 #include "tsuchi/grid/grid.hpp"
 #include "tsuchi/material/material.hpp"
 #include "tsuchi/model/config.hpp"
+#include "tsuchi/model/contact.hpp"
 #include "tsuchi/model/loads.hpp"
 #include "tsuchi/model/node_sets.hpp"
 #include "tsuchi/model/step_settings.hpp"
@@ -44,6 +45,7 @@ struct Model {
   std::vector<std::int64_t> held_nodes;     // grid slots with a held component (fixed_g != 0), increasing
   bool rotate_initial_stress = false;       // some body holds an anisotropic sigma0 by eq (2)
   Loads<D> loads;                           // the input's [[loads]] (model/loads.hpp)
+  Contact<D> contact;                       // [[contact]] and frictional faces (model/contact.hpp)
 
   std::size_t bytes() const { return grid.bytes() + particles.size() * particles.bytes_per_particle(); }
 };

@@ -36,7 +36,8 @@ void set_boundary_conditions(const Config& c, Grid<D>& g, std::vector<NodeSet<D>
         switch (c.boundary.faces[d][side]) {
           case FaceCondition::Fixed: mask |= static_cast<std::uint8_t>((1u << D) - 1); break;
           case FaceCondition::Roller: mask |= static_cast<std::uint8_t>(1u << d); break;
-          case FaceCondition::Free: break;
+          case FaceCondition::Free:
+          case FaceCondition::Friction: break;  // a wall the contact stage applies (model/contact.hpp)
         }
       }
     // Per component, the set that drives it here (-1: fixed at zero or free).

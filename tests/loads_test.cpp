@@ -453,7 +453,8 @@ traction = [2.0e3, -1.0e4]
     stage.begin_step(m.loads, m.particles, 1, 0.0);
     auto& n = m.grid.field(0);
     std::fill(n.f.begin(), n.f.end(), Vec<2>::Zero());
-    stage.apply<shape::GimpKernel>(m.loads, m.grid, m.particles, schedule, 0.0, n);
+    const std::vector<int> field_of_body(1, 0);
+    stage.apply<shape::GimpKernel>(m.loads, m.grid, m.particles, schedule, 0.0, m.grid.fields, field_of_body, 0, 0);
     return n.f;
   };
   const auto before = forces();

@@ -23,6 +23,10 @@ template <int D>
 void ExplicitSolver<D>::step(double dt) {
   if (drives_bodies()) held_impulse_.resize(m_.particles.size(), Vec<D>::Zero());
   step_dt_ = dt;
+  const auto& contact = m_.contact;
+  if (contact.between_bodies()) field_of_body_ = contact.field_of_body;
+  else field_of_body_.assign(m_.body_names.size(), 0);
+  first_field_ = contact_.first(m_), last_field_ = contact_.last(m_);
   switch (m_.step.kernel) {
     case ShapeKind::Linear: step_with<shape::LinearKernel>(dt); break;
     case ShapeKind::UGimp:
@@ -60,40 +64,44 @@ void ExplicitSolver<D>::step_with(double dt) {
     schedule_.build(g, m_.particles.x_p, reach);
   }
   begin_loads(dt);
+  if (contact_on()) contact_.begin_step(m_, schedule_, motion_scale_);
   // Local damping acts on the free motion only: a component a prescribed body drives is held, and
   // a damping force there would only add to the force holding it (its reaction), 5 % of the
   // nodal force with damping 0.05, as a fixed component takes none either.
   held_nodes_.begin_step(m_, time_, dt);  // the base motion of this step
   undamped_driven_ = m_.step.damping > 0.0 && drives_bodies();
   if (undamped_driven_) mark_driven_nodes<Kernel>();
-  const auto& field = nodes();
+  constexpr FieldArray v = &NodalField<D>::v, vL = &NodalField<D>::vL;
   switch (m_.step.scheme) {
     case Scheme::USF:
       // The GIMP domain update waits until the end of the step: the later stages must use the
       // same weights as the mass p2g, or momentum is not conserved.
       p2g<Kernel, Scatter::MassMomentum, How>();
       nodal_velocity();
-      update_stress<Kernel, AfterStress::DeferDomain>(dt, field.v);
+      update_stress<Kernel, AfterStress::DeferDomain>(dt, v);
       p2g<Kernel, Scatter::Force, How>();
-      loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, nodes());
+      loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, g.fields, field_of_body_,
+                                    first_field_, last_field_);
       solve_grid(dt);
       g2p<Kernel, AfterGather::Move, How>(dt);
       apply_deferred_domain_update();
       break;
     case Scheme::USL:
       p2g<Kernel, Scatter::All, How>();
-      loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, nodes());
+      loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, g.fields, field_of_body_,
+                                    first_field_, last_field_);
       nodal_velocity_and_solve<Momentum::Keep>(dt);
       g2p<Kernel, AfterGather::None, How>(dt);
-      update_stress<Kernel, AfterStress::Move>(dt, field.vL);
+      update_stress<Kernel, AfterStress::Move>(dt, vL);
       break;
     case Scheme::MUSL:
       p2g<Kernel, Scatter::All, How>();
-      loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, nodes());
+      loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, g.fields, field_of_body_,
+                                    first_field_, last_field_);
       nodal_velocity_and_solve<Momentum::Clear>(dt);
       g2p<Kernel, AfterGather::Remap, How>(dt);
       nodal_velocity(At::End);
-      update_stress<Kernel, AfterStress::Move>(dt, field.v);
+      update_stress<Kernel, AfterStress::Move>(dt, v);
       break;
   }
   report_faults();
@@ -170,11 +178,14 @@ void ExplicitSolver<D>::p2g() {
   constexpr bool mass_momentum = What != Scatter::Force, force = What != Scatter::MassMomentum;
   constexpr bool affine = How == Transfer::Apic && mass_momentum;
   auto& g = m_.grid;
-  auto& n = nodes();
   const auto& p = m_.particles;
-  if constexpr (What == Scatter::All) zero_nodal(schedule_, n.m, n.p, n.f);
-  else if constexpr (What == Scatter::MassMomentum) zero_nodal(schedule_, n.m, n.p);
-  else zero_nodal(schedule_, n.f);
+  for_body_fields([&](int, NodalField<D>& n) {
+    if constexpr (What == Scatter::All) zero_nodal(schedule_, n.m, n.p, n.f);
+    else if constexpr (What == Scatter::MassMomentum) zero_nodal(schedule_, n.m, n.p);
+    else zero_nodal(schedule_, n.f);
+  });
+  if constexpr (mass_momentum)
+    if (m_.contact.between_bodies()) scatter_mass_gradient<Kernel>();
   const Vec<D> b = gravity_;
   // What a row of the stencil spreads along x (stencil.hpp): with c_d the columns of -V sigma,
   // node (a, r) gets m wx[a] T, mv wx[a] T and
@@ -186,6 +197,7 @@ void ExplicitSolver<D>::p2g() {
   schedule_.scatter([&](std::size_t i) {
     // Local copies of the array addresses: Eigen's vector stores may alias anything, and would
     // otherwise make the compiler reload every vector's address after each node's update.
+    auto& n = g.fields[static_cast<std::size_t>(field_of(i))];
     double* const m_g = n.m.data();
     Vec<D>* const p_g = n.p.data();
     Vec<D>* const f_g = n.f.data();
@@ -239,6 +251,36 @@ void ExplicitSolver<D>::p2g() {
   });
 }
 
+// The mass gradient of each body field, sum_p m_p grad S_ip, for the contact normals (eq C1 of
+// solver/contact_stage.hpp). A pass of its own, run only with contact between bodies, so that the
+// p2g of a model without contact carries no extra work.
+template <int D>
+template <class Kernel>
+void ExplicitSolver<D>::scatter_mass_gradient() {
+  const auto& g = m_.grid;
+  const auto& p = m_.particles;
+  struct Row {
+    double Tm;
+    std::array<double, D - 1> dTm;
+  };
+  schedule_.scatter([&](std::size_t i) {
+    Vec<D>* const gm = contact_.mass_gradient(field_of(i)).data();
+    Stencil<D, Kernel> st;
+    st.compute(g, p.x_p[i], p.l_p[i]);
+    const double m = p.m_p[i];
+    st.scatter(
+        [&](double T, const std::array<double, D - 1>& dT) {
+          Row row{T * m, {}};
+          for (int d = 0; d < D - 1; ++d) row.dTm[static_cast<std::size_t>(d)] = dT[static_cast<std::size_t>(d)] * m;
+          return row;
+        },
+        [&](std::int64_t k, double w, double dw, const Row& row) {
+          gm[k][0] += dw * row.Tm;
+          for (int d = 1; d < D; ++d) gm[k][d] += w * row.dTm[static_cast<std::size_t>(d - 1)];
+        });
+  });
+}
+
 // v_g = p_g / m_g on a node heavier than the floor, then the velocity boundary conditions.
 template <int D>
 inline Vec<D> ExplicitSolver<D>::velocity_at(const NodalField<D>& n, std::int64_t k) const {
@@ -252,11 +294,12 @@ inline Vec<D> ExplicitSolver<D>::velocity_at(const NodalField<D>& n, std::int64_
 // Grid momentum balance at a node, eq (4), with local damping and the boundary conditions:
 // a_g = (f + f_damp(f, v_g)) / m_g.
 template <int D>
-inline Vec<D> ExplicitSolver<D>::acceleration_at(const NodalField<D>& n, std::int64_t k, const Vec<D>& v) const {
+inline Vec<D> ExplicitSolver<D>::acceleration_at(const NodalField<D>& n, std::int64_t k, const Vec<D>& v,
+                                                 std::size_t driven_offset) const {
   const auto& g = m_.grid;
   Vec<D> a = Vec<D>::Zero();
   if (n.m[k] > m_.step.node_mass_floor) {
-    const unsigned driven = undamped_driven_ ? driven_[static_cast<std::size_t>(k)] : 0u;
+    const unsigned driven = undamped_driven_ ? driven_[driven_offset + static_cast<std::size_t>(k)] : 0u;
     for (int d = 0; d < D; ++d) {
       const double f = n.f[k][d];
       a[d] = ((driven >> d) & 1u ? f : f + local_damping_force(f, v[d], m_.step.damping)) / n.m[k];
@@ -268,24 +311,49 @@ inline Vec<D> ExplicitSolver<D>::acceleration_at(const NodalField<D>& n, std::in
 
 // Driven components (base motion) then take their velocity at the start or the end of the step,
 // eq (B1) of solver/held_nodes.hpp: the end after MUSL's remap, whose velocities are end-of-step ones.
+// With contact, the velocities are then corrected where bodies meet: USF's start-of-step ones,
+// for its stress update, and MUSL's remapped ones, for its (solver/contact_stage.hpp).
 template <int D>
 void ExplicitSolver<D>::nodal_velocity(At driven_at) {
-  auto& n = nodes();
-  schedule_.for_active_nodes([&](std::int64_t k) { n.v[k] = velocity_at(n, k); });
-  held_nodes_.set_velocity(m_, schedule_, n, driven_at);
+  for_body_fields([&](int, NodalField<D>& n) {
+    schedule_.for_active_nodes([&](std::int64_t k) { n.v[k] = velocity_at(n, k); });
+    held_nodes_.set_velocity(m_, schedule_, n, driven_at);
+  });
+  if (!contact_on()) return;
+  using Stage = typename ContactStage<D>::Stage;
+  if (driven_at == At::End) contact_.correct(m_, schedule_, Stage::Remap, step_dt_);
+  else if (m_.step.scheme == Scheme::USF) contact_.correct(m_, schedule_, Stage::Start, step_dt_);
 }
 
 // a_g, and v^L = v_g + dt a_g. The held nodes' free momenta are booked first for the support
 // reactions (eq R2), and driven components get their motion after, eq (B1).
+// With contact, field 0 first takes the sum of the body fields' mass, momentum and force (the
+// booking and the unbalanced-force ratio read it), each body field is solved, and the contact
+// stage corrects the updated velocities.
 template <int D>
 void ExplicitSolver<D>::solve_grid(double dt) {
-  auto& n = nodes();
-  held_nodes_.book(m_, schedule_, n);
-  schedule_.for_active_nodes([&](std::int64_t k) {
-    n.a[k] = acceleration_at(n, k, n.v[k]);
-    n.vL[k] = n.v[k] + dt * n.a[k];
+  auto& n0 = nodes();
+  if (m_.contact.between_bodies()) {
+    const int G = m_.contact.fields;
+    auto& F = m_.grid.fields;
+    schedule_.for_active_nodes([&](std::int64_t k) {
+      double m = 0.0;
+      Vec<D> p = Vec<D>::Zero(), f = Vec<D>::Zero();
+      for (int b = 1; b <= G; ++b) m += F[b].m[k], p += F[b].p[k], f += F[b].f[k];
+      n0.m[k] = m, n0.p[k] = p, n0.f[k] = f;
+    });
+  }
+  held_nodes_.book(m_, schedule_, n0);
+  const std::size_t size = m_.grid.size();
+  for_body_fields([&](int field, NodalField<D>& n) {
+    const std::size_t driven_offset = static_cast<std::size_t>(field) * size;
+    schedule_.for_active_nodes([&](std::int64_t k) {
+      n.a[k] = acceleration_at(n, k, n.v[k], driven_offset);
+      n.vL[k] = n.v[k] + dt * n.a[k];
+    });
+    held_nodes_.set_solve(m_, schedule_, n);
   });
-  held_nodes_.set_solve(m_, schedule_, n);
+  if (contact_on()) contact_.correct(m_, schedule_, ContactStage<D>::Stage::Solve, dt);
 }
 
 // nodal_velocity() then solve_grid() in one pass over the nodes, for USL and MUSL, where nothing
@@ -293,6 +361,17 @@ void ExplicitSolver<D>::solve_grid(double dt) {
 template <int D>
 template <typename ExplicitSolver<D>::Momentum Then>
 void ExplicitSolver<D>::nodal_velocity_and_solve(double dt) {
+  if (contact_on()) {
+    // Two passes: the contact stage comes between the solve and the clearing of p.
+    for_body_fields([&](int, NodalField<D>& n) {
+      schedule_.for_active_nodes([&](std::int64_t k) { n.v[k] = velocity_at(n, k); });
+      held_nodes_.set_velocity(m_, schedule_, n, At::Start);
+    });
+    solve_grid(dt);
+    if constexpr (Then == Momentum::Clear)
+      for_body_fields([&](int, NodalField<D>& n) { zero_nodal(schedule_, n.p); });
+    return;
+  }
   auto& n = nodes();
   held_nodes_.book(m_, schedule_, n);  // before p is cleared: see solve_grid
   schedule_.for_active_nodes([&](std::int64_t k) {
@@ -352,7 +431,6 @@ template <int D>
 template <class Kernel, typename ExplicitSolver<D>::AfterGather Then>
 void ExplicitSolver<D>::g2p_flip(double dt) {
   auto& g = m_.grid;
-  auto& n = nodes();
   auto& p = m_.particles;
   const double beta = m_.step.pic_fraction;
   struct Sums {
@@ -360,6 +438,7 @@ void ExplicitSolver<D>::g2p_flip(double dt) {
   };
   const Sums zero{Vec<D>::Zero(), Vec<D>::Zero()};
   const auto particle = [&](std::size_t i) {
+    auto& n = g.fields[static_cast<std::size_t>(field_of(i))];
     const Vec<D>* const a_g = n.a.data();  // local addresses: see p2g
     const Vec<D>* const vL_g = n.vL.data();
     Vec<D>* const p_g = n.p.data();
@@ -397,7 +476,6 @@ template <int D>
 template <class Kernel, typename ExplicitSolver<D>::AfterGather Then>
 void ExplicitSolver<D>::g2p_affine(double dt) {
   auto& g = m_.grid;
-  auto& n = nodes();
   auto& p = m_.particles;
   const double h = g.h, tiny = 1e-12 * g.h * g.h;
   // Sums along x of w v^L, w rx v^L, w, w rx, w rx^2; the row factors T, ry then give v_p, B_p, D_p.
@@ -407,6 +485,7 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
   };
   const Sums zero{Vec<D>::Zero(), Vec<D>::Zero(), 0.0, 0.0, 0.0};
   const auto particle = [&](std::size_t i) {
+    auto& n = g.fields[static_cast<std::size_t>(field_of(i))];
     const Vec<D>* const vL_g = n.vL.data();  // local addresses: see p2g
     Vec<D>* const p_g = n.p.data();
     Stencil<D, Kernel> st;
@@ -481,13 +560,21 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
 // so no cell-by-cell pressure pattern, for any kernel. One more scatter over the particles.
 template <int D>
 template <class Kernel>
-void ExplicitSolver<D>::average_volumetric_strain(double dt, const std::vector<Vec<D>>& v_strain) {
+void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain) {
   const auto& g = m_.grid;
   const auto& p = m_.particles;
   const auto& by_material = m_.step.anti_locking;
-  node_volume_strain_.resize(g.size());
-  node_volume_.resize(g.size());
-  zero_nodal(schedule_, node_volume_strain_, node_volume_);
+  // One average per body field: bodies in contact do not share their volume change.
+  const std::size_t size = g.size(), slots = size * static_cast<std::size_t>(last_field_ + 1);
+  node_volume_strain_.resize(slots);
+  node_volume_.resize(slots);
+  for (int f = first_field_; f <= last_field_; ++f) {
+    const std::size_t o = static_cast<std::size_t>(f) * size;
+    schedule_.for_active_nodes([&](std::int64_t k) {
+      node_volume_strain_[o + static_cast<std::size_t>(k)] = 0.0;
+      node_volume_[o + static_cast<std::size_t>(k)] = 0.0;
+    });
+  }
   struct Sums {
     Vec<D> w, dw;
   };
@@ -495,9 +582,10 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, const std::vector<V
   schedule_.scatter([&](std::size_t i) {
     const auto mat = static_cast<std::size_t>(p.material_p[i]);
     if (mat >= by_material.size() || by_material[mat] != AntiLocking::Node) return;
-    const Vec<D>* const v_g = v_strain.data();
-    double* const e_g = node_volume_strain_.data();
-    double* const V_g = node_volume_.data();
+    const std::size_t field = static_cast<std::size_t>(field_of(i));
+    const Vec<D>* const v_g = (g.fields[field].*v_strain).data();
+    double* const e_g = node_volume_strain_.data() + field * size;
+    double* const V_g = node_volume_.data() + field * size;
     Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
     double div = 0.0;  // tr L = sum_i G_i . v_i
@@ -520,12 +608,15 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, const std::vector<V
   });
   // e_i once per node, and node_volume_ becomes 1 where e_i is defined (0 elsewhere): the gather
   // in update_stress then needs no division or test per node.
-  schedule_.for_active_nodes([&](std::int64_t k) {
-    double& e = node_volume_strain_[static_cast<std::size_t>(k)];
-    double& V = node_volume_[static_cast<std::size_t>(k)];
-    if (V > 0.0) e /= V, V = 1.0;
-    else e = 0.0, V = 0.0;
-  });
+  for (int f = first_field_; f <= last_field_; ++f) {
+    const std::size_t o = static_cast<std::size_t>(f) * size;
+    schedule_.for_active_nodes([&](std::int64_t k) {
+      double& e = node_volume_strain_[o + static_cast<std::size_t>(k)];
+      double& V = node_volume_[o + static_cast<std::size_t>(k)];
+      if (V > 0.0) e /= V, V = 1.0;
+      else e = 0.0, V = 0.0;
+    });
+  }
 }
 
 // Strain and spin increments from the grid velocity, eq (10); Jaumann rotation (22) and the
@@ -534,11 +625,11 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, const std::vector<V
 // The material is chosen once per material group, outside the particle loop.
 template <int D>
 template <class Kernel, typename ExplicitSolver<D>::AfterStress Then>
-void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_strain) {
+void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
   constexpr bool move = Then == AfterStress::Move;
   auto& g = m_.grid;
-  const auto& n = nodes();
   auto& p = m_.particles;
+  const std::size_t size = g.size();
   const bool domain_update = m_.step.domain_update();
   const bool defer_domain = !move;  // USF: the step's later stages still need this step's weights
   if (domain_update && defer_domain) deferred_eps_.resize(p.size());
@@ -574,7 +665,9 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
           for (std::int64_t ii = 0; ii < np; ++ii) {
             const auto i = static_cast<std::size_t>(ii);
             if (p.material_p[i] != static_cast<std::int32_t>(mat)) continue;
-            const Vec<D>* const v_g = v_strain.data();  // local addresses: see p2g
+            const std::size_t field = static_cast<std::size_t>(field_of(i));
+            const auto& n = g.fields[field];
+            const Vec<D>* const v_g = (n.*v_strain).data();  // local addresses: see p2g
             const Vec<D>* const vL_g = n.vL.data();
             Stencil<D, Kernel> st;
             st.compute(g, p.x_p[i], p.l_p[i]);
@@ -594,7 +687,9 @@ void ExplicitSolver<D>::update_stress(double dt, const std::vector<Vec<D>>& v_st
                   if constexpr (move) vL += T * row.vL;
                 });
             Voigt<D> d_eps = dt * sym_voigt<D>(L);
-            apply_anti_locking<D>(remedy, g, st, v_g, node_volume_strain_.data(), node_volume_.data(), dt, d_eps);
+            const bool node_average = remedy == AntiLocking::Node;
+            apply_anti_locking<D>(remedy, g, st, v_g, node_average ? node_volume_strain_.data() + field * size : nullptr,
+                                  node_average ? node_volume_.data() + field * size : nullptr, dt, d_eps);
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
             jaumann_rotate(p.sigma_p[i], d_omega);
             if (rotate_sigma0) jaumann_rotate(p.sigma0_p[i], d_omega);
@@ -807,8 +902,10 @@ template <class Kernel>
 void ExplicitSolver<D>::mark_driven_nodes() const {
   const auto& g = m_.grid;
   const auto& p = m_.particles;
-  driven_.resize(g.fixed_g.size());
-  schedule_.for_active_nodes([&](std::int64_t k) { driven_[static_cast<std::size_t>(k)] = 0; });
+  const std::size_t size = g.fixed_g.size();
+  driven_.resize(size * static_cast<std::size_t>(last_field_ + 1));
+  for (int f = 0; f <= last_field_; ++f)
+    schedule_.for_active_nodes([&](std::int64_t k) { driven_[static_cast<std::size_t>(f) * size + static_cast<std::size_t>(k)] = 0; });
   for (std::size_t i = 0; i < p.size(); ++i) {
     const auto& motion = m_.motion[static_cast<std::size_t>(p.body_p[i])];
     if (!motion.any) continue;
@@ -817,9 +914,13 @@ void ExplicitSolver<D>::mark_driven_nodes() const {
       if (motion.prescribed[d]) mask = static_cast<std::uint8_t>(mask | (1u << d));
     Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
+    const std::size_t o = static_cast<std::size_t>(field_of(i)) * size;
     st.scatter([](double T, const std::array<double, D - 1>&) { return T; },
                [&](std::int64_t k, double w, double, double T) {
-                 if (w * T > 0.0) driven_[static_cast<std::size_t>(k)] |= mask;
+                 if (w * T > 0.0) {
+                   driven_[static_cast<std::size_t>(k)] |= mask;
+                   driven_[o + static_cast<std::size_t>(k)] |= mask;
+                 }
                });
   }
 }

@@ -14,9 +14,13 @@
 // model/config.hpp): FLIP, blended with PIC by pic_fraction, or APIC (Jiang et al. 2015), where each
 // particle carries the affine velocity field v_p + C_p (x - x_p).
 //
-// The stages work on nodal field 0 of the grid (nodes()), the only one today.
+// Without contact between bodies the stages work on nodal field 0 of the grid (nodes()). With it
+// (model/contact.hpp) each particle scatters to and gathers from its body's field, 1..fields; the
+// node passes run on each of them, the contact stage (solver/contact_stage.hpp) corrects them where
+// they meet, and field 0 holds their sum for the support reactions and the unbalanced-force ratio.
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/grid/block_schedule.hpp"
+#include "tsuchi/solver/contact_stage.hpp"
 #include "tsuchi/solver/held_nodes.hpp"
 #include "tsuchi/solver/load_stage.hpp"
 
@@ -64,6 +68,8 @@ class ExplicitSolver {
   // Particles whose expansion the latest step held because their stress was released in tension
   // (solver.hold_released_volume; StepSettings::hold_released_volume).
   std::int64_t released_particles() const { return released_; }
+  // The contact stage of the latest step: where contact acted, its normals and forces, the walls' forces.
+  const ContactStage<D>& contact() const { return contact_; }
   // "particle ID of body "NAME" at (x, y)", for messages.
   std::string describe_particle(std::size_t i) const;
 
@@ -85,9 +91,17 @@ class ExplicitSolver {
   template <class Kernel> void step_with(double dt);
   template <class Kernel, Transfer How> void step_with(double dt);
   NodalField<D>& nodes() { return m_.grid.field(0); }
+  // The grid field particle i scatters to and gathers from: its body's (field 0 without contact).
+  int field_of(std::size_t i) const { return field_of_body_[static_cast<std::size_t>(m_.particles.body_p[i])]; }
+  // Body fields first_field_..last_field_: 0..0 without contact between bodies.
+  bool contact_on() const { return m_.contact.active(); }
+  template <class Kernel> void scatter_mass_gradient();
+  template <class F> void for_body_fields(F&& f) {
+    for (int k = first_field_; k <= last_field_; ++k) f(k, m_.grid.field(k));
+  }
   template <class Kernel, Scatter What, Transfer How> void p2g();
   Vec<D> velocity_at(const NodalField<D>& n, std::int64_t k) const;
-  Vec<D> acceleration_at(const NodalField<D>& n, std::int64_t k, const Vec<D>& v) const;
+  Vec<D> acceleration_at(const NodalField<D>& n, std::int64_t k, const Vec<D>& v, std::size_t driven_offset = 0) const;
   using At = typename HeldNodes<D>::At;
   void nodal_velocity(At driven_at = At::Start);
   void solve_grid(double dt);
@@ -100,8 +114,9 @@ class ExplicitSolver {
   bool drives_bodies() const {
     return std::any_of(m_.motion.begin(), m_.motion.end(), [](const BodyMotion<D>& b) { return b.any; });
   }
-  template <class Kernel, AfterStress Then> void update_stress(double dt, const std::vector<Vec<D>>& v_strain);
-  template <class Kernel> void average_volumetric_strain(double dt, const std::vector<Vec<D>>& v_strain);
+  using FieldArray = std::vector<Vec<D>> NodalField<D>::*;  // &NodalField::v or &NodalField::vL
+  template <class Kernel, AfterStress Then> void update_stress(double dt, FieldArray v_strain);
+  template <class Kernel> void average_volumetric_strain(double dt, FieldArray v_strain);
   // Inlined: both run for every particle in the innermost stages.
   [[gnu::always_inline]] inline void impose_motion(std::size_t i, Vec<D>& v) const;
   [[gnu::always_inline]] inline void impose_motion(std::size_t i, Vec<D>& v, Mat<D>& C) const;
@@ -129,8 +144,11 @@ class ExplicitSolver {
   mutable double ratio_ = 0.0;               // unbalanced_force_ratio() of step ratio_step_
   mutable std::int64_t ratio_step_ = -1;
   mutable std::vector<std::array<double, 3>> tile_sums_;  // per active tile: max, sum, count
-  std::vector<double> node_volume_strain_, node_volume_;  // anti_locking = "node": sums of eq (V3)
-  mutable std::vector<std::uint8_t> driven_;  // per node: bit d set where a held body drives component d
+  // anti_locking = "node": sums of eq (V3), per body field (field f's at offset f * grid size)
+  std::vector<double> node_volume_strain_, node_volume_;
+  // Per node: bit d set where a held body drives component d; with contact, per body field at
+  // offset f * grid size as well (field 0's slot: any body's mark, for the unbalanced-force ratio).
+  mutable std::vector<std::uint8_t> driven_;
   std::vector<Voigt<D>> deferred_eps_;  // USF: this step's strain increments, for the domain update
   BlockSchedule<D> schedule_;           // colour-by-colour scatter order, brought up to date every step
   typename Particles<D>::Scratch sort_scratch_;  // storage for the periodic reordering
@@ -139,6 +157,9 @@ class ExplicitSolver {
   void begin_loads(double dt);
   LoadStage<D> loads_;
   std::vector<double> motion_scale_;
+  ContactStage<D> contact_;
+  std::vector<int> field_of_body_;       // per body: its grid field (all 0 without contact between bodies)
+  int first_field_ = 0, last_field_ = 0;  // the body fields
 };
 
 extern template class ExplicitSolver<2>;

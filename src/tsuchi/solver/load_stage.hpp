@@ -43,22 +43,29 @@ class LoadStage {
     if (!indices_valid(loads, p)) find_indices(loads, p);
   }
 
+  // Into the nodal force of the particle's body field (field_of_body; all 0 without contact between
+  // bodies). A nodal force is shared among the body fields first..last at its node in proportion to
+  // their mass, as a body force acting on what is there.
   template <class Kernel>
   void apply(const Loads<D>& loads, const Grid<D>& g, const Particles<D>& p, const BlockSchedule<D>& schedule,
-             double mass_floor, NodalField<D>& n) const {
+             double mass_floor, std::vector<NodalField<D>>& fields, const std::vector<int>& field_of_body, int first,
+             int last) const {
     if (!active_) return;
-    Vec<D>* const f_g = n.f.data();
+    const auto f_of = [&](std::size_t i) {
+      return fields[static_cast<std::size_t>(field_of_body[static_cast<std::size_t>(p.body_p[i])])].f.data();
+    };
     if (body_force_) {
       schedule.scatter([&](std::size_t i) {
         const Vec<D>& a = body_a_[static_cast<std::size_t>(p.body_p[i])];
-        if (a != Vec<D>::Zero()) spread<Kernel>(g, p, i, Vec<D>(p.m_p[i] * a), f_g);
+        if (a != Vec<D>::Zero()) spread<Kernel>(g, p, i, Vec<D>(p.m_p[i] * a), f_of(i));
       });
     }
     for (std::size_t l = 0; l < loads.surface.size(); ++l) {
       const auto& load = loads.surface[l];
       const double f = surface_f_[l];
       if (f == 0.0) continue;
-      for (std::size_t e = 0; e < load.id.size(); ++e) spread<Kernel>(g, p, index_[l][e], f * load.force[e], f_g);
+      for (std::size_t e = 0; e < load.id.size(); ++e)
+        spread<Kernel>(g, p, index_[l][e], f * load.force[e], f_of(index_[l][e]));
     }
     const auto& tiles = schedule.active_tiles();
     for (std::size_t l = 0; l < loads.nodal.size(); ++l) {
@@ -67,7 +74,14 @@ class LoadStage {
         const std::int64_t k = load.node[e];
         // An inactive tile's slots are stale (p2g clears a tile only when it becomes active).
         if (!std::binary_search(tiles.begin(), tiles.end(), static_cast<std::int32_t>(k / Grid<D>::kTileNodes))) continue;
-        if (n.m[static_cast<std::size_t>(k)] > mass_floor) f_g[k] += nodal_f_[l] * load.force[e];
+        const auto s = static_cast<std::size_t>(k);
+        double M = 0.0;
+        for (int b = first; b <= last; ++b) M += fields[static_cast<std::size_t>(b)].m[s];
+        if (!(M > mass_floor)) continue;
+        for (int b = first; b <= last; ++b) {
+          auto& n = fields[static_cast<std::size_t>(b)];
+          if (n.m[s] > 0.0) n.f[s] += (n.m[s] / M) * (nodal_f_[l] * load.force[e]);
+        }
       }
     }
   }

@@ -43,6 +43,37 @@ struct Options {
   std::string restart;
 };
 
+// The velocity fields of contact with their bodies, each [[contact]] pair's law, and the walls.
+template <int D>
+void print_contact(const Config& c, const Model<D>& m) {
+  const Contact<D>& k = m.contact;
+  const auto name = [&](int b) { return fmt::format("\"{}\"", c.bodies[static_cast<std::size_t>(b)].name); };
+  const auto law = [](const ContactConfig& p) {
+    return p.law == ContactConfig::Law::Bonded  ? std::string("bonded")
+           : p.law == ContactConfig::Law::Rough ? std::string("rough")
+                                                : fmt::format("friction {}", p.friction);
+  };
+  if (k.fields > 0) {
+    std::string fields;
+    for (int f = 0; f < k.fields; ++f) {
+      std::string names;
+      for (const int b : k.bodies_of_field[static_cast<std::size_t>(f)]) names += (names.empty() ? "" : ", ") + name(b);
+      const int rigid = k.rigid_body[static_cast<std::size_t>(f)];
+      fields += fmt::format("{}{}{}", f ? " | " : "", names, rigid >= 0 ? " (rigid)" : "");
+    }
+    fmt::print("contact    {} velocity fields: {}\n", k.fields, fields);
+  } else if (!c.contacts.empty()) {
+    fmt::print("contact    bonded pairs only: one velocity field, as without contact\n");
+  }
+  if (k.fields > 0)
+    for (const auto& p : c.contacts) fmt::print("           {} | {}: {}\n", name(p.body_a), name(p.body_b), law(p));
+  for (const auto& w : k.walls) {
+    const double mu = w.friction;
+    fmt::print("wall       {}_{}: frictional wall, {}\n", "xyz"[w.face / 2], w.face % 2 ? "max" : "min",
+               std::isinf(mu) ? std::string("rough (no slip)") : fmt::format("mu {}", mu));
+  }
+}
+
 template <int D>
 void print_summary(const Config& c, const Model<D>& m, const std::string& output_dir) {
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
@@ -63,6 +94,7 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
                D == 2 ? "m^2" : "m^3", materials, bc.priority != 0 ? fmt::format(", priority {}", bc.priority) : "");
   }
   fmt::print("particles  {}\n", m.particles.size());
+  print_contact<D>(c, m);
   fmt::print("solver     {}, {} shape functions, {}, anti-locking {}, damping {}\n", to_string(c.solver.scheme),
              to_string(c.solver.shape),
              c.solver.velocity_transfer == VelocityTransfer::Apic ? std::string("APIC transfer")

@@ -17,6 +17,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 
 namespace tsuchi {
@@ -327,14 +328,58 @@ void read_body(Section& s, Config& c, std::size_t index) {
   c.bodies.push_back(b);
 }
 
+// A Coulomb coefficient mu >= 0 or "rough" (no slip: +infinity); with `bonded`, also "bonded"
+// (returns -1). The same words for a contact pair and a frictional wall.
+double read_friction(Section& s, std::string_view key, bool bonded) {
+  const std::string expected = bonded ? "a friction coefficient >= 0, \"rough\" or \"bonded\""
+                                      : "a friction coefficient >= 0 or \"rough\"";
+  const toml::node& n = s.need(key, expected);
+  if (const auto* str = n.as_string()) {
+    std::string v = str->get();
+    std::transform(v.begin(), v.end(), v.begin(), [](unsigned char ch) { return std::tolower(ch); });
+    if (v == "rough") return std::numeric_limits<double>::infinity();
+    if (bonded && v == "bonded") return -1.0;
+  } else if (n.is_integer() || n.is_floating_point()) {
+    const double mu = s.number_of(key, n, expected);
+    if (mu >= 0.0) return mu == 0.0 ? 0.0 : mu;  // -0 is 0
+  }
+  s.fail(key, fmt::format("expected {}, got {}", expected, describe(n)));
+}
+
+// A grid face: "free", "roller", "fixed", or { friction = MU } (a rigid wall with Coulomb friction).
+void read_face(Section& s, Config& c, int axis, int side) {
+  const std::string key = fmt::format("{}_{}", axis_name[axis], side == 0 ? "min" : "max");
+  const toml::node* n = s.get(key);
+  auto& face = c.boundary.faces[static_cast<std::size_t>(axis)][static_cast<std::size_t>(side)];
+  face = FaceCondition::Free;
+  if (!n) return;
+  if (const auto* t = n->as_table()) {
+    Section f(*t, s.key_path(key), s.file());
+    f.get("friction");  // an unknown key ({ mu = 0.3 }) is reported before the missing friction
+    f.finish();
+    face = FaceCondition::Friction;
+    c.boundary.face_friction[static_cast<std::size_t>(axis)][static_cast<std::size_t>(side)] =
+        read_friction(f, "friction", false);
+    return;
+  }
+  if (const auto* str = n->as_string()) {
+    std::string v = str->get();
+    std::transform(v.begin(), v.end(), v.begin(), [](unsigned char ch) { return std::tolower(ch); });
+    const std::array<std::string_view, 3> kinds{"free", "roller", "fixed"};
+    for (std::size_t k = 0; k < kinds.size(); ++k)
+      if (v == kinds[k]) {
+        face = static_cast<FaceCondition>(k);
+        return;
+      }
+  }
+  s.fail(key, fmt::format("expected one of \"free\", \"roller\", \"fixed\" or a table {{ friction = MU }} "
+                          "(a frictional wall; MU >= 0 or \"rough\"), got {}", describe(*n)));
+}
+
 void read_boundary(Section& s, Config& c) {
-  const std::vector<std::string> kinds{"free", "roller", "fixed"};
   for (const char* k : {"z_min", "z_max"}) refuse_z_in_2d(s, k, c.dimension);
   for (int d = 0; d < c.dimension; ++d)
-    for (int side = 0; side < 2; ++side) {
-      const std::string key = fmt::format("{}_{}", axis_name[d], side == 0 ? "min" : "max");
-      c.boundary.faces[d][side] = static_cast<FaceCondition>(s.choice(key, kinds, 0));
-    }
+    for (int side = 0; side < 2; ++side) read_face(s, c, d, side);
   const auto sets = s.tables("nodes");
   for (std::size_t i = 0; i < sets.size(); ++i) {
     Section n(*sets[i], fmt::format("{}.nodes.{}", s.path(), i), s.file());
@@ -433,6 +478,49 @@ void read_checkpoint(Section& s, Config& c) {
   if (const toml::node* n = s.get("file")) k.file_where = where(s.file(), n->source());
   if (k.file.empty() || k.file.back() == '/') s.fail("file", fmt::format("expected a file name, got \"{}\"", k.file));
   s.finish();
+}
+
+// [[contact]]: bodies = ["A", "B"], friction = MU, "rough" or "bonded". Whether the pairs can be
+// met (a bonded chain joining a frictional pair) is found by build_contact (model/contact.cpp).
+void read_contact(Section& s, Config& c) {
+  ContactConfig k;
+  k.where = fmt::format("{}: key '{}'", where(s.file(), s.raw().source()), s.path());
+  const std::string expected = fmt::format("an array of two names of bodies defined ({})",
+                                           quoted_list(c.bodies, &BodyConfig::name));
+  const toml::node& n = s.need("bodies", expected);
+  const auto* a = n.as_array();
+  if (!a || a->size() != 2)
+    s.fail("bodies", fmt::format("expected {}, got {}", expected, a ? fmt::format("{} entries", a->size()) : describe(n)));
+  std::array<int, 2> body{-1, -1};
+  for (std::size_t e = 0; e < 2; ++e) {
+    const toml::node& entry = *a->get(e);
+    const auto* name = entry.as_string();
+    if (name) {
+      for (std::size_t b = 0; b < c.bodies.size(); ++b)
+        if (c.bodies[b].name == name->get()) body[e] = static_cast<int>(b);
+    }
+    if (body[e] < 0)
+      s.fail("bodies", fmt::format("expected the names of bodies defined ({}), got {} in entry {}",
+                                   quoted_list(c.bodies, &BodyConfig::name), describe(entry), e + 1));
+  }
+  if (body[0] == body[1])
+    s.fail("bodies", fmt::format("expected two different bodies, got \"{}\" twice: a body does not meet itself",
+                                 c.bodies[static_cast<std::size_t>(body[0])].name));
+  for (std::size_t j = 0; j < c.contacts.size(); ++j) {
+    const auto& o = c.contacts[j];
+    if (std::minmax(o.body_a, o.body_b) == std::minmax(body[0], body[1]))
+      s.fail("bodies", fmt::format("bodies \"{}\" and \"{}\" are paired already in contact.{}; expected each pair once",
+                                   c.bodies[static_cast<std::size_t>(body[0])].name,
+                                   c.bodies[static_cast<std::size_t>(body[1])].name, j));
+  }
+  k.body_a = body[0];
+  k.body_b = body[1];
+  const double mu = read_friction(s, "friction", true);
+  if (std::isinf(mu)) k.law = ContactConfig::Law::Rough;
+  else if (mu < 0.0) k.law = ContactConfig::Law::Bonded;
+  else k.law = ContactConfig::Law::Frictional, k.friction = mu;
+  s.finish();
+  c.contacts.push_back(k);
 }
 
 // FNV-1a, 64 bit, fed with the input's values themselves rather than a printed form, so the
@@ -642,6 +730,11 @@ Config read_document(const toml::table& root, const std::string& file) {
     read_boundary(s, c);
   }
   read_loads(top, c);
+  const auto contacts = top.tables("contact");
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    Section s(*contacts[i], fmt::format("contact.{}", i), file);
+    read_contact(s, c);
+  }
   if (const toml::table* t = top.table("solver")) {
     Section s(*t, "solver", file);
     read_solver(s, c);

@@ -440,6 +440,7 @@ Model<D> build_model(const Config& c) {
   const auto& mp = m.particles.m_p;
   m.step.node_mass_floor = c.solver.mass_threshold * *std::min_element(mp.begin(), mp.end());
   m.loads = build_loads<D>(c, m.particles, m.grid);
+  m.contact = build_contact<D>(c, m);
   return m;
 }
 

@@ -7,8 +7,9 @@
 // materials", CMAME 187, eqs (29)-(33); Bardenhagen, Guilkey et al. (2001) "An improved contact
 // algorithm for the material point method ...", CMES 2. At a node with fields a and b (masses m_a,
 // m_b, velocities v_a, v_b) and the unit normal n from a towards b,
-//   n = (grad m_b - grad m_a) / |grad m_b - grad m_a|                                       (C1)
-// (both bodies' mass gradients: the surface of either alone is poorly resolved where it is thin),
+//   n = g_a / |g_a| if |g_a| >= |g_b|, else -g_b / |g_b|,   g_a = sum_{p in a} m_p grad S_ip   (C1)
+// (g_a points out of body a at its surface; the larger one is taken, as at the corner of a body
+// the other's flat face gives the surface; a rigid partner's is always taken),
 //   v_cm = (m_a v_a + m_b v_b) / (m_a + m_b),   dv = v_a - v_cm,   dn = dv . n,   t = dv - dn n, (C2)
 // and the bodies approach when dn > 0. Field a then takes
 //   sticking, mu dn >= |t| (or "rough", or bonded always):  v_a <- v_cm
@@ -50,7 +51,7 @@ class ContactStage {
   // Sizes the per-field arrays and zeroes the mass gradients on the active tiles; `motion_scale`
   // is the factor of each body's prescribed velocity in this step.
   void begin_step(Model<D>& m, const BlockSchedule<D>& schedule, const std::vector<double>& motion_scale);
-  // The mass gradient sum_p m_p grad S_ip of field f (1..fields), for the scatter of eq (C1).
+  // g_f = sum_p m_p grad S_ip of field f (1..fields), eq (C1), for the scatter: out of the body.
   std::vector<Vec<D>>& mass_gradient(int f) { return grad_m_[static_cast<std::size_t>(f - 1)]; }
   // Corrects the velocities of the stage: v (Start, Remap) or v^L with a (Solve).
   void correct(Model<D>& m, const BlockSchedule<D>& schedule, Stage stage, double dt);

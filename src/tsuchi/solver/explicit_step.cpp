@@ -27,6 +27,8 @@ void ExplicitSolver<D>::step(double dt) {
   if (contact.between_bodies()) field_of_body_ = contact.field_of_body;
   else field_of_body_.assign(m_.body_names.size(), 0);
   first_field_ = contact_.first(m_), last_field_ = contact_.last(m_);
+  rigid_field_.assign(static_cast<std::size_t>(last_field_ + 1), 0);
+  for (int f = 1; f <= last_field_; ++f) rigid_field_[static_cast<std::size_t>(f)] = contact.rigid_body[static_cast<std::size_t>(f - 1)] >= 0;
   switch (m_.step.kernel) {
     case ShapeKind::Linear: step_with<shape::LinearKernel>(dt); break;
     case ShapeKind::UGimp:
@@ -686,6 +688,12 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
                   for (int d = 1; d < D; ++d) L.col(d) += dT[d - 1] * row.w;
                   if constexpr (move) vL += T * row.vL;
                 });
+            // A rigid body in contact deforms only as its prescribed motion says: its field also
+            // carries the other bodies' contact impulses (for its reaction), not its strain.
+            if (rigid_field_[field]) {
+              const auto body = static_cast<std::size_t>(p.body_p[i]);
+              L = motion_scale_[body] * m_.motion[body].grad;
+            }
             Voigt<D> d_eps = dt * sym_voigt<D>(L);
             const bool node_average = remedy == AntiLocking::Node;
             apply_anti_locking<D>(remedy, g, st, v_g, node_average ? node_volume_strain_.data() + field * size : nullptr,

@@ -160,6 +160,7 @@ class ExplicitSolver {
   ContactStage<D> contact_;
   std::vector<int> field_of_body_;       // per body: its grid field (all 0 without contact between bodies)
   int first_field_ = 0, last_field_ = 0;  // the body fields
+  std::vector<std::uint8_t> rigid_field_;  // per field: Contact::rigid_body is set (0 for field 0)
 };
 
 extern template class ExplicitSolver<2>;

@@ -82,7 +82,8 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output,
       recorders_(std::move(recorder_names)) {
   std::string global_header = "time,step,dt,kinetic_energy,strain_energy,gravity_potential,total_energy,mass";
   for (int d = 0; d < D; ++d) global_header += fmt::format(",momentum_{}", "xyz"[d]);
-  global_header += ",unbalanced_force_ratio,released_particles\n";
+  global_header += ",unbalanced_force_ratio,released_particles";
+  global_header += model.contact.active() ? ",contact_nodes\n" : "\n";
   std::string recorder_header;
   if (!recorders_.empty()) {
     recorder_header = "time,step";
@@ -107,8 +108,11 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output,
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(dir_, ec)) {
     const std::string name = entry.path().filename().string();
-    const bool listed = std::any_of(h_.frames.begin(), h_.frames.end(), [&](const auto& f) { return f.second == name; });
-    if ((is_frame_file_name(name) && !listed) || (name == "recorders.csv" && recorders_.empty()))
+    // contact_NNNNNN.vtu goes with particles_NNNNNN.vtu: kept while that frame is listed.
+    const std::string frame = name.rfind("contact_", 0) == 0 ? "particles_" + name.substr(8) : name;
+    const bool listed = std::any_of(h_.frames.begin(), h_.frames.end(), [&](const auto& f) { return f.second == frame; });
+    if ((is_frame_file_name(frame) && !listed) || (name == "recorders.csv" && recorders_.empty()) ||
+        (name == "contact.pvd" && (h_.frames.empty() || !model.contact.active())))
       fs::remove(entry.path(), ec);
   }
   const std::string pvd = dir_ + "/particles.pvd";
@@ -117,12 +121,21 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output,
 }
 
 template <int D>
-void OutputWriter<D>::frame(double label) {
+void OutputWriter<D>::frame(double label, const ContactPoints* contact) {
   if (!output_.write_frames) return;
   const std::string name = fmt::format("particles_{:06d}.vtu", h_.frames.size());
+  if (contact) {
+    // Written before the particle frame: the .pvd lists a contact frame only once both exist.
+    write_file_atomically(dir_ + "/" + fmt::format("contact_{:06d}.vtu", h_.frames.size()), contact_vtu_document(*contact));
+  }
   write_file_atomically(dir_ + "/" + name, vtu_document<D>(m_, output_.fields));
   h_.frames.emplace_back(label, name);
   write_file_atomically(dir_ + "/particles.pvd", pvd_document(h_.frames));
+  if (contact) {
+    auto frames = h_.frames;
+    for (auto& f : frames) f.second.replace(0, std::string("particles_").size(), "contact_");
+    write_file_atomically(dir_ + "/contact.pvd", pvd_document(frames));
+  }
   flush_global();
 }
 
@@ -134,7 +147,8 @@ void OutputWriter<D>::global_row(double time, std::int64_t step, double dt, cons
                                 q.kinetic_energy, q.strain_energy, q.gravity_potential,
                                 q.kinetic_energy + q.strain_energy + q.gravity_potential, q.mass);
   for (int d = 0; d < D; ++d) row += fmt::format(",{:.12g}", q.momentum[d]);
-  row += fmt::format(",{:.6g},{}\n", report.unbalanced_force_ratio, report.released_particles);
+  row += fmt::format(",{:.6g},{}", report.unbalanced_force_ratio, report.released_particles);
+  row += report.contact_nodes >= 0 ? fmt::format(",{}\n", report.contact_nodes) : std::string("\n");
   global_.append(row);
   if (recorders_.empty()) return;
   row = fmt::format("{:.12g},{}", time, step);

@@ -9,6 +9,7 @@
 // the directory only ever shows one run.
 #include "tsuchi/io/appended_file.hpp"
 #include "tsuchi/io/output_lock.hpp"
+#include "tsuchi/io/vtu_writer.hpp"
 #include "tsuchi/model/model.hpp"
 
 #include <limits>
@@ -39,6 +40,7 @@ void check_output_paths(const Config& config, const std::string& directory, cons
 struct StepReport {
   double unbalanced_force_ratio = std::numeric_limits<double>::quiet_NaN();  // nan before the first step
   std::int64_t released_particles = 0;  // expansions held by solver.hold_released_volume
+  std::int64_t contact_nodes = -1;      // nodes where contact acted; -1: the model has no contact (no column)
 };
 
 template <int D>
@@ -51,8 +53,9 @@ class OutputWriter {
                std::vector<std::string> recorder_names, const OutputHistory* resume = nullptr);
 
   // A frame of the particles; `label` is its time in the .pvd (the time, or the value of the
-  // output.frame_label recorder).
-  void frame(double label);
+  // output.frame_label recorder). With `contact`, also contact_NNNNNN.vtu and contact.pvd: the
+  // grid nodes where contact acted in the step that ended at the frame.
+  void frame(double label, const ContactPoints* contact = nullptr);
   // A row of global.csv, and of recorders.csv with the recorders' values (in the order of the names).
   void global_row(double time, std::int64_t step, double dt, const StepReport& report,
                   const std::vector<double>& recorder_values);

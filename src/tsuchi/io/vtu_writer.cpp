@@ -125,6 +125,34 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
   return xml;
 }
 
+// ASCII: a frame holds a few hundred contact nodes at most, and the file stays readable as text.
+std::string contact_vtu_document(const ContactPoints& c) {
+  const std::size_t n = c.x.size();
+  std::string xml = fmt::format(
+      "<?xml version=\"1.0\"?>\n"
+      "<!-- written by tsuchi {}: grid nodes where contact acted -->\n"
+      "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+      "  <UnstructuredGrid>\n    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n",
+      version, n, n);
+  const auto vectors = [&](const char* name, const std::vector<std::array<double, 3>>& v) {
+    std::string s = fmt::format("        <DataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"3\" format=\"ascii\">\n", name);
+    for (const auto& a : v) s += fmt::format("          {:.9g} {:.9g} {:.9g}\n", a[0], a[1], a[2]);
+    return s + "        </DataArray>\n";
+  };
+  xml += "      <PointData Vectors=\"force\">\n" + vectors("normal", c.normal) + vectors("force", c.force);
+  xml += "        <DataArray type=\"Int32\" Name=\"kind\" format=\"ascii\">\n";
+  for (const int k : c.kind) xml += fmt::format("          {}\n", k);
+  xml += "        </DataArray>\n      </PointData>\n      <Points>\n" + vectors("points", c.x) + "      </Points>\n";
+  xml += "      <Cells>\n        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n";
+  for (std::size_t i = 0; i < n; ++i) xml += fmt::format("          {}\n", i);
+  xml += "        </DataArray>\n        <DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n";
+  for (std::size_t i = 0; i < n; ++i) xml += fmt::format("          {}\n", i + 1);
+  xml += "        </DataArray>\n        <DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n";
+  for (std::size_t i = 0; i < n; ++i) xml += "          1\n";  // VTK_VERTEX
+  xml += "        </DataArray>\n      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n";
+  return xml;
+}
+
 std::string pvd_document(const std::vector<std::pair<double, std::string>>& frames) {
   std::string xml = fmt::format(
       "<?xml version=\"1.0\"?>\n"

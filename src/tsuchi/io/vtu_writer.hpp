@@ -4,6 +4,7 @@
 // of them for ParaView.
 #include "tsuchi/model/model.hpp"
 
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,6 +14,14 @@ namespace tsuchi {
 // The whole .vtu file for the given fields (names from particle_fields.hpp).
 template <int D>
 std::string vtu_document(const Model<D>& model, const std::vector<std::string>& fields);
+
+// The grid nodes where contact acted (ExplicitSolver::contact_nodes()), as vertices with the
+// normal, the contact force and the kind (1: between bodies, 2: a wall, 3: both), for ParaView.
+struct ContactPoints {
+  std::vector<std::array<double, 3>> x, normal, force;
+  std::vector<int> kind;
+};
+std::string contact_vtu_document(const ContactPoints& points);
 
 // A .pvd listing (time, file name) pairs.
 std::string pvd_document(const std::vector<std::pair<double, std::string>>& frames);

@@ -54,7 +54,11 @@ std::vector<std::size_t> support_nodes(const RecorderConfig& c, std::size_t inde
 
 template <int D>
 Recorder<D>::Recorder(const RecorderConfig& config, std::size_t index, const Model<D>& model) : c_(config) {
-  if (c_.face >= 0 || c_.node_set >= 0) held_ = support_nodes<D>(c_, index, model);
+  // A frictional face is a wall of the contact stage: its reaction is the wall's force.
+  if (c_.face >= 0)
+    for (std::size_t w = 0; w < model.contact.walls.size(); ++w)
+      if (model.contact.walls[w].face == c_.face) wall_ = static_cast<int>(w);
+  if ((c_.face >= 0 && wall_ < 0) || c_.node_set >= 0) held_ = support_nodes<D>(c_, index, model);
   if (c_.from_solver()) return;  // no particle set
   const auto q = find_recorder_quantity(c_.quantity, D);
   if (!q) throw InputError(fmt::format("recorder \"{}\": unknown quantity \"{}\"", c_.name, c_.quantity));
@@ -103,6 +107,11 @@ template <int D>
 double Recorder<D>::value(const ExplicitSolver<D>& solver) const {
   if (c_.whole_model()) return c_.scale * solver.unbalanced_force_ratio() + c_.offset;
   if (const int axis = c_.reaction_axis(); axis >= 0) {
+    if (wall_ >= 0) {
+      const auto& f = solver.contact().wall_force();
+      return static_cast<std::size_t>(wall_) < f.size() ? c_.scale * f[static_cast<std::size_t>(wall_)][axis] + c_.offset
+                                                         : std::numeric_limits<double>::quiet_NaN();
+    }
     const Vec<D> r = c_.body >= 0 ? solver.reaction(c_.body) : solver.support_reaction(held_);
     return c_.scale * r[axis] + c_.offset;
   }

@@ -40,6 +40,7 @@ class Recorder {
   std::vector<std::uint8_t> member_;
   // A support reaction's nodes: positions in Model::held_nodes of the face's or node set's nodes.
   std::vector<std::size_t> held_;
+  int wall_ = -1;  // reaction of a frictional face: its index in Model::contact.walls
   std::size_t count_ = 0;
   // Storage indices of the set and their ids, found again whenever the particles were reordered
   // (a check of count_ ids per evaluation, a pass over all particles only after a reordering).

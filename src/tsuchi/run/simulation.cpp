@@ -121,7 +121,7 @@ std::string shell_word(const std::string& w) {
 
 template <int D>
 StepReport step_report(const ExplicitSolver<D>& solver) {
-  return {solver.unbalanced_force_ratio(), solver.released_particles()};
+  return {solver.unbalanced_force_ratio(), solver.released_particles(), solver.contact_node_count()};
 }
 
 std::string checkpoint_path(const Config& config, const std::string& output_directory) {
@@ -180,7 +180,17 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   }
   // Frames are labelled by time, or by the value of the output.frame_label recorder.
   const Recorder<D>* label = oc.frame_label_recorder >= 0 ? &recorders[static_cast<std::size_t>(oc.frame_label_recorder)] : nullptr;
-  auto write_frame = [&](double time) { out->frame(label ? label->value(solver) : time); };
+  const bool contact = model.contact.active();
+  auto write_frame = [&](double time) {
+    ContactPoints points;
+    if (contact)
+      for (const auto& n : solver.contact_nodes()) {
+        std::array<double, 3> x{}, normal{}, force{};
+        for (int d = 0; d < D; ++d) x[d] = n.x[d], normal[d] = n.normal[d], force[d] = n.force[d];
+        points.x.push_back(x), points.normal.push_back(normal), points.force.push_back(force), points.kind.push_back(n.kind);
+      }
+    out->frame(label ? label->value(solver) : time, contact ? &points : nullptr);
+  };
   if (out && !options.restart) {
     out->global_row(0.0, 0, 0.0, step_report(solver), recorder_row());
     write_frame(0.0);

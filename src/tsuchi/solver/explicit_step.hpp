@@ -70,6 +70,17 @@ class ExplicitSolver {
   std::int64_t released_particles() const { return released_; }
   // The contact stage of the latest step: where contact acted, its normals and forces, the walls' forces.
   const ContactStage<D>& contact() const { return contact_; }
+  // The grid nodes where contact acted in the latest step, in storage order (the same on any
+  // thread count): position, the normal from the lowest body field there towards the others (a
+  // wall's outward normal at a wall), the contact force on that field (N; N/m in 2D), and what
+  // acted (1: bodies, 2: a wall, 3: both). Empty without contact or before the first step.
+  struct ContactNode {
+    Vec<D> x, normal, force;
+    int kind = 0;
+  };
+  std::vector<ContactNode> contact_nodes() const;
+  // Their number; -1 for a model without contact (no column in global.csv).
+  std::int64_t contact_node_count() const;
   // "particle ID of body "NAME" at (x, y)", for messages.
   std::string describe_particle(std::size_t i) const;
 

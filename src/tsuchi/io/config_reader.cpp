@@ -314,6 +314,9 @@ void read_body(Section& s, Config& c, std::size_t index) {
     g.finish();
   }
   b.prescribed_velocity_function = read_function_ref(s, "prescribed_velocity_function", c);
+  b.rigid_mass = s.number("rigid_mass", "a positive mass in kg (kg per metre of thickness in 2D)", positive, 0.0);
+  if (b.rigid_mass > 0.0 && std::any_of(b.velocity_formula.begin(), b.velocity_formula.end(), [](const std::string& f) { return !f.empty(); }))
+    s.fail("velocity", "a rigid body (rigid_mass) starts with one velocity; expected numbers, not formulas");
   if (b.prescribed_velocity_function >= 0 && std::none_of(b.prescribed.begin(), b.prescribed.end(), [](bool p) { return p; }))
     s.fail("prescribed_velocity_function", "scales the prescribed velocity, but the body has no prescribed_velocity");
   if (const toml::table* t = s.table("initial_stress")) {

@@ -116,6 +116,9 @@ struct BodyConfig {
   Triple prescribed_velocity{};
   std::array<Triple, 3> prescribed_gradient{};
   int prescribed_velocity_function = -1;  // index in Config::functions: the prescribed velocity times f(t); -1: none
+  // > 0: a rigid body of this mass (kg; kg per metre in 2D) in contact: the components not in
+  // prescribed_velocity translate under gravity and the contact forces (model/contact.hpp).
+  double rigid_mass = 0.0;
   InitialStressConfig initial_stress;
   ImperfectionConfig imperfection;
 };

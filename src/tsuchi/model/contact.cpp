@@ -147,7 +147,11 @@ Contact<D> build_contact(const Config& c, const Model<D>& model) {
       if (r.bodies_of_field[f].size() != 1) continue;
       const int b = r.bodies_of_field[f][0];
       const auto& motion = model.motion[static_cast<std::size_t>(b)];
-      if (std::all_of(motion.prescribed.begin(), motion.prescribed.end(), [](bool p) { return p; })) r.rigid_body[f] = b;
+      // A free rigid body (rigid_mass) is an ordinary partner of its nodal mass in the contact
+      // correction: it responds to the impulses, and within a step the correction must not treat
+      // it as infinitely heavy (the explicit update of its velocity then rang without decay).
+      if (motion.rigid_mass == 0.0 && std::all_of(motion.prescribed.begin(), motion.prescribed.end(), [](bool p) { return p; }))
+        r.rigid_body[f] = b;
     }
   }
 

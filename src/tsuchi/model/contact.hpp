@@ -36,6 +36,8 @@ struct Contact {
   // Per field (index i - 1): the body when the field holds exactly one body and that body's
   // velocity is prescribed in every component (a rigid platen, footing or wall); -1 otherwise. A
   // rigid field moves as prescribed and takes the other fields' contact impulses as its reaction.
+  // A free rigid body (bodies.N.rigid_mass) is not one of these: it meets the others with its
+  // nodal mass, as a deformable body does, and only its strain and motion are rigid.
   std::vector<int> rigid_body;
   // Names of the bodies in each field, for the summary and messages: field i - 1.
   std::vector<std::vector<int>> bodies_of_field;

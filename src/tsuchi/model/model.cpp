@@ -374,6 +374,15 @@ void add_body(const Config& c, int body, const Placement<D>& pl, Model<D>& m) {
     motion.v0[d] = b.prescribed_velocity[d];
     for (int e = 0; e < D; ++e) motion.grad(d, e) = b.prescribed_gradient[d][e];
   }
+  if (b.rigid_mass > 0.0) {
+    // The free components are held too, at the body's own velocity, which the solver updates.
+    motion.rigid_mass = b.rigid_mass;
+    for (int d = 0; d < D; ++d)
+      if (!motion.prescribed[d]) {
+        motion.free[d] = motion.prescribed[d] = motion.any = true;
+        motion.v0[d] = b.velocity[d];
+      }
+  }
   if (b.prescribed_velocity_function >= 0)
     motion.function = c.functions[static_cast<std::size_t>(b.prescribed_velocity_function)].f;
   // A prescribed component starts at its prescribed value (with APIC, and its gradient), at t = 0.

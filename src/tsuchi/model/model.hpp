@@ -25,6 +25,10 @@ struct BodyMotion {
   Mat<D> grad = Mat<D>::Zero();
   bool any = false;
   TimeFunction function;
+  // A free rigid body (bodies.N.rigid_mass): every component is held, and the solver sets v0 of the
+  // `free` ones after each step from the body's momentum balance with this mass.
+  double rigid_mass = 0.0;
+  std::array<bool, D> free{};
 
   double velocity(int d, const Vec<D>& x) const { return v0[d] + grad.row(d).dot(x); }
 };

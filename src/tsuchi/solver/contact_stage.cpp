@@ -121,7 +121,10 @@ template <int D>
 Vec<D> ContactStage<D>::rigid_velocity(const Model<D>& m, int body, std::int64_t k) const {
   const auto& motion = m.motion[static_cast<std::size_t>(body)];
   const Vec<D> x = m.grid.position(m.grid.ijk(k));
-  return scale_[static_cast<std::size_t>(body)] * (motion.v0 + motion.grad * x);
+  Vec<D> v = motion.v0 + motion.grad * x;
+  for (int d = 0; d < D; ++d)
+    if (!motion.free[d]) v[d] *= scale_[static_cast<std::size_t>(body)];
+  return v;
 }
 
 template <int D>

@@ -22,21 +22,69 @@ namespace tsuchi {
 template <int D>
 void ExplicitSolver<D>::step(double dt) {
   if (drives_bodies()) held_impulse_.resize(m_.particles.size(), Vec<D>::Zero());
+  if (!stepped_) restore_free_rigid_bodies();  // the first step of this process: a restart's V from the particles
   step_dt_ = dt;
   const auto& contact = m_.contact;
   if (contact.between_bodies()) field_of_body_ = contact.field_of_body;
   else field_of_body_.assign(m_.body_names.size(), 0);
   first_field_ = contact_.first(m_), last_field_ = contact_.last(m_);
   rigid_field_.assign(static_cast<std::size_t>(last_field_ + 1), 0);
-  for (int f = 1; f <= last_field_; ++f) rigid_field_[static_cast<std::size_t>(f)] = contact.rigid_body[static_cast<std::size_t>(f - 1)] >= 0;
+  for (int f = 1; f <= last_field_; ++f) {
+    const auto& bodies = contact.bodies_of_field[static_cast<std::size_t>(f - 1)];
+    const bool free_rigid = bodies.size() == 1 && m_.motion[static_cast<std::size_t>(bodies[0])].rigid_mass > 0.0;
+    rigid_field_[static_cast<std::size_t>(f)] = contact.rigid_body[static_cast<std::size_t>(f - 1)] >= 0 || free_rigid;
+  }
   switch (m_.step.kernel) {
     case ShapeKind::Linear: step_with<shape::LinearKernel>(dt); break;
     case ShapeKind::UGimp:
     case ShapeKind::Gimp: step_with<shape::GimpKernel>(dt); break;
   }
+  stepped_ = true;  // before: eq (R3) reads this step's reaction
+  update_free_rigid_bodies(dt);
   time_ += dt;
   ++steps_;
-  stepped_ = true;
+}
+
+// A free rigid body (bodies.N.rigid_mass = M) translates along its free components with
+//   M (V_n+1 - V_n) / dt = F_c + M g,   F_c = -R - m g                                        (R3)
+// where R is its reaction of eq (R1) in the step (its particles were held at V_n) and m the mass
+// of its particles: with them held, -R is every force the model put on them, gravity on m
+// included; F_c is what the rest (contact, loads) put on the body. Explicit, and stable while M is
+// not much smaller than the mass of the soil at the nodes it touches (within a step the contact
+// treats the body as infinitely heavy). V lives in the particles' velocity (all equal), so a
+// restart continues from them; motion.v0 is brought up to date from them on a process's first step.
+template <int D>
+void ExplicitSolver<D>::update_free_rigid_bodies(double dt) {
+  auto& p = m_.particles;
+  for (std::size_t b = 0; b < m_.motion.size(); ++b) {
+    auto& motion = m_.motion[b];
+    if (!(motion.rigid_mass > 0.0)) continue;
+    double m = 0.0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (static_cast<std::size_t>(p.body_p[i]) == b) m += p.m_p[i];
+    const Vec<D> F = -reaction(static_cast<int>(b)) - m * gravity_;
+    for (int d = 0; d < D; ++d)
+      if (motion.free[d]) motion.v0[d] += dt * (F[d] / motion.rigid_mass + gravity_[d]);
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (static_cast<std::size_t>(p.body_p[i]) == b)
+        for (int d = 0; d < D; ++d)
+          if (motion.free[d]) p.v_p[i][d] = motion.v0[d];
+  }
+}
+
+template <int D>
+void ExplicitSolver<D>::restore_free_rigid_bodies() {
+  const auto& p = m_.particles;
+  for (std::size_t b = 0; b < m_.motion.size(); ++b) {
+    auto& motion = m_.motion[b];
+    if (!(motion.rigid_mass > 0.0)) continue;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (static_cast<std::size_t>(p.body_p[i]) == b) {
+        for (int d = 0; d < D; ++d)
+          if (motion.free[d]) motion.v0[d] = p.v_p[i][d];
+        break;
+      }
+  }
 }
 
 template <int D>
@@ -735,7 +783,7 @@ inline void ExplicitSolver<D>::impose_motion(std::size_t i, Vec<D>& v) const {
   if (!motion.any) return;
   const double f = motion_scale_[body];  // the function of time's factor for this step
   for (int d = 0; d < D; ++d)
-    if (motion.prescribed[d]) v[d] = f * motion.velocity(d, m_.particles.x_p[i]);
+    if (motion.prescribed[d]) v[d] = (motion.free[d] ? 1.0 : f) * motion.velocity(d, m_.particles.x_p[i]);
 }
 
 // The same for APIC's affine matrix: a prescribed component v_d = v0_d + grad_d . x has the
@@ -748,8 +796,9 @@ inline void ExplicitSolver<D>::impose_motion(std::size_t i, Vec<D>& v, Mat<D>& C
   const double f = motion_scale_[body];
   for (int d = 0; d < D; ++d)
     if (motion.prescribed[d]) {
-      v[d] = f * motion.velocity(d, m_.particles.x_p[i]);
-      C.row(d) = f * motion.grad.row(d);
+      const double fd = motion.free[d] ? 1.0 : f;  // a free rigid component follows eq (R3), not f(t)
+      v[d] = fd * motion.velocity(d, m_.particles.x_p[i]);
+      C.row(d) = fd * motion.grad.row(d);
     }
 }
 

@@ -135,6 +135,8 @@ class ExplicitSolver {
   [[gnu::always_inline]] inline void hold_motion(std::size_t i, Vec<D>& v, Mat<D>& C);
   [[gnu::always_inline]] inline void move_particle(std::size_t i, double dt, Vec<D> vL);
   void apply_deferred_domain_update();
+  void update_free_rigid_bodies(double dt);
+  void restore_free_rigid_bodies();
   template <class Kernel> void mark_driven_nodes() const;
   void report_faults() const;
   static void note_fault(std::int64_t& slot, std::size_t i);

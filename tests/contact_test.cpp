@@ -135,8 +135,8 @@ TEST(SlidingBlock, AccelerationIsCoulombsOnWallAndRigidBase) {
 // (mu 0.2, 0.5), MUSL + linear shape functions (FLIP) at 30 deg, mu 0.2 and 45 deg, mu 0.5; within
 // 1 %. Measured: USF +0.004 % / -0.52 %, USL + FLIP -0.019 % / +0.68 %, linear -0.052 % / +0.022 %.
 // Left out: linear at 30 deg, mu 0.5, +29.5 % (+10.3 % at 0.0125 m cells): there a is the small
-// difference of gravity's pull and the friction, and the linear kernel's cell-crossing jumps in
-// the nodal forces as the block slides take about 4.5 % off the friction (examples/sliding_block).
+// difference of gravity's pull and the friction, and the friction is about 4.5 % short, presumably
+// the linear kernel's cell-crossing noise (examples/sliding_block/README.md).
 TEST(SlidingBlock, SchemesAndKernels) {
   struct Case {
     std::vector<std::string> settings;

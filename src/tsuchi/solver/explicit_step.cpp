@@ -345,11 +345,11 @@ inline Vec<D> ExplicitSolver<D>::velocity_at(const NodalField<D>& n, std::int64_
 // a_g = (f + f_damp(f, v_g)) / m_g.
 template <int D>
 inline Vec<D> ExplicitSolver<D>::acceleration_at(const NodalField<D>& n, std::int64_t k, const Vec<D>& v,
-                                                 std::size_t driven_offset) const {
+                                                 std::size_t driven_offset, bool undamped) const {
   const auto& g = m_.grid;
   Vec<D> a = Vec<D>::Zero();
   if (n.m[k] > m_.step.node_mass_floor) {
-    const unsigned driven = undamped_driven_ ? driven_[driven_offset + static_cast<std::size_t>(k)] : 0u;
+    const unsigned driven = undamped ? (1u << D) - 1u : undamped_driven_ ? driven_[driven_offset + static_cast<std::size_t>(k)] : 0u;
     for (int d = 0; d < D; ++d) {
       const double f = n.f[k][d];
       a[d] = ((driven >> d) & 1u ? f : f + local_damping_force(f, v[d], m_.step.damping)) / n.m[k];
@@ -361,6 +361,21 @@ inline Vec<D> ExplicitSolver<D>::acceleration_at(const NodalField<D>& n, std::in
 
 // Driven components (base motion) then take their velocity at the start or the end of the step,
 // eq (B1) of solver/held_nodes.hpp: the end after MUSL's remap, whose velocities are end-of-step ones.
+// contact_node_ on the active nodes: two or more body fields with mass, or a frictional wall's node.
+template <int D>
+void ExplicitSolver<D>::mark_contact_nodes() {
+  const auto& F = m_.grid.fields;
+  const double floor = m_.step.node_mass_floor;
+  contact_node_.resize(m_.grid.size());
+  schedule_.for_active_nodes([&](std::int64_t k) {
+    int present = 0;
+    for (int f = first_field_; f <= last_field_; ++f) present += F[static_cast<std::size_t>(f)].m[k] > floor;
+    contact_node_[static_cast<std::size_t>(k)] = present > 1;
+  });
+  for (const auto& wall : m_.contact.walls)
+    for (const std::int64_t k : wall.nodes) contact_node_[static_cast<std::size_t>(k)] = 1;
+}
+
 // With contact, the velocities are then corrected where bodies meet: USF's start-of-step ones,
 // for its stress update, and MUSL's remapped ones, for its (solver/contact_stage.hpp).
 template <int D>
@@ -395,10 +410,16 @@ void ExplicitSolver<D>::solve_grid(double dt) {
   }
   held_nodes_.book(m_, schedule_, n0);
   const std::size_t size = m_.grid.size();
+  // Local damping leaves the nodes where contact may act (two fields there, or a wall): its force,
+  // -alpha |f| sign(v), flips with the sign of a velocity near zero at a body at rest on another,
+  // and the contact's reaction took it on, +-alpha of the weight from step to step.
+  const bool spare_contact = contact_on() && m_.step.damping > 0.0;
+  if (spare_contact) mark_contact_nodes();
   for_body_fields([&](int field, NodalField<D>& n) {
     const std::size_t driven_offset = static_cast<std::size_t>(field) * size;
     schedule_.for_active_nodes([&](std::int64_t k) {
-      n.a[k] = acceleration_at(n, k, n.v[k], driven_offset);
+      const bool undamped = spare_contact && contact_node_[static_cast<std::size_t>(k)];
+      n.a[k] = acceleration_at(n, k, n.v[k], driven_offset, undamped);
       n.vL[k] = n.v[k] + dt * n.a[k];
     });
     held_nodes_.set_solve(m_, schedule_, n);

@@ -112,7 +112,9 @@ class ExplicitSolver {
   }
   template <class Kernel, Scatter What, Transfer How> void p2g();
   Vec<D> velocity_at(const NodalField<D>& n, std::int64_t k) const;
-  Vec<D> acceleration_at(const NodalField<D>& n, std::int64_t k, const Vec<D>& v, std::size_t driven_offset = 0) const;
+  Vec<D> acceleration_at(const NodalField<D>& n, std::int64_t k, const Vec<D>& v, std::size_t driven_offset = 0,
+                         bool undamped = false) const;
+  void mark_contact_nodes();
   using At = typename HeldNodes<D>::At;
   void nodal_velocity(At driven_at = At::Start);
   void solve_grid(double dt);
@@ -173,6 +175,7 @@ class ExplicitSolver {
   ContactStage<D> contact_;
   std::vector<int> field_of_body_;       // per body: its grid field (all 0 without contact between bodies)
   int first_field_ = 0, last_field_ = 0;  // the body fields
+  std::vector<std::uint8_t> contact_node_;  // per node: contact may act there (mark_contact_nodes)
   std::vector<std::uint8_t> rigid_field_;  // per field: Contact::rigid_body is set (0 for field 0)
 };
 

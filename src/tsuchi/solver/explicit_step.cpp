@@ -653,6 +653,7 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
   schedule_.scatter([&](std::size_t i) {
     const auto mat = static_cast<std::size_t>(p.material_p[i]);
     if (mat >= by_material.size() || by_material[mat] != AntiLocking::Node) return;
+    if (rigid_field_[static_cast<std::size_t>(field_of(i))]) return;  // takes no remedy (update_stress)
     const std::size_t field = static_cast<std::size_t>(field_of(i));
     const Vec<D>* const v_g = (g.fields[field].*v_strain).data();
     double* const e_g = node_volume_strain_.data() + field * size;
@@ -764,8 +765,11 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
               L = motion_scale_[body] * m_.motion[body].grad;
             }
             Voigt<D> d_eps = dt * sym_voigt<D>(L);
-            const bool node_average = remedy == AntiLocking::Node;
-            apply_anti_locking<D>(remedy, g, st, v_g, node_average ? node_volume_strain_.data() + field * size : nullptr,
+            // A rigid body's strain is its prescribed motion's: no remedy (its field's velocities
+            // carry the contact impulses, which the nodal average would turn into volume change).
+            const AntiLocking own = rigid_field_[field] ? AntiLocking::None : remedy;
+            const bool node_average = own == AntiLocking::Node;
+            apply_anti_locking<D>(own, g, st, v_g, node_average ? node_volume_strain_.data() + field * size : nullptr,
                                   node_average ? node_volume_.data() + field * size : nullptr, dt, d_eps);
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
             jaumann_rotate(p.sigma_p[i], d_omega);

@@ -135,6 +135,23 @@ TEST(Restart, ShakenBaseContinuesBitwise) {
   expect_bitwise_restart(c, tmp, 97, 300);
 }
 
+// Contact keeps no state between steps (it is decided from each step's velocities), and a free
+// rigid body's velocity lives in its particles: the disks in frictional contact (split during the
+// impact) and the free rigid block sliding on its base continue bitwise, the contact frames
+// (contact_NNNNNN.vtu, contact.pvd) and the contact_nodes column included.
+TEST(Restart, ContactContinuesBitwise) {
+  TempDir tmp("tsuchi_restart");
+  const Case disks{std::string(TSUCHI_SOURCE_DIR) + "/examples/disk_collision/disks.toml",
+                   {"contact.0.friction=0.3", "output.interval=0.25"}};
+  expect_bitwise_restart(disks, tmp, 61, 150);
+}
+
+TEST(Restart, FreeRigidBodyContinuesBitwise) {
+  TempDir tmp("tsuchi_restart");
+  const Case block{std::string(TSUCHI_SOURCE_DIR) + "/examples/sliding_block/rigid_block.toml", {"output.interval=0.005"}};
+  expect_bitwise_restart(block, tmp, 237, 500);
+}
+
 TEST(Restart, MohrCoulombTriaxialContinuesBitwise) {
   TempDir tmp("tsuchi_restart");
   // The triaxial test 1 with the cap fixed on a 5 mm grid, frames every 50 steps or so; the split

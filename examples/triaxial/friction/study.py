@@ -61,7 +61,7 @@ quantity = "reaction_y"
 [[recorders]]
 name = "top_dx_m"
 body = "specimen"
-min = [-1.0, 0.0995]
+min = [-1.0, 0.099]   # the top row of particles (centres at y = 0.0995)
 quantity = "displacement_x"
 """
 
@@ -125,7 +125,7 @@ def run_case(test, case, args):
     return rec
 
 
-def smooth(y, n=5):
+def smooth(y, n=3):
     """Centred running mean over n rows (0.1 % strain each); the ends keep shorter windows."""
     if len(y) < n:
         return y
@@ -160,6 +160,45 @@ def bands_at(case_dir, rec, strain):
     return plot.specimen_bands(read_vtu(f[2]))
 
 
+def overlap_mm(case_dir, rec, strain):
+    """How far the specimen's particles reach into the cap at a frame: the largest
+    (particle centre + half its initial spacing) - (cap's lowest particle centre - half spacing)
+    over the specimen particles under the cap's face away from its corners (1.5 mm in from each
+    edge), in mm (0.5 mm spacing halves, 2 x 2 particles per 2 mm cell); and the highest rise of
+    specimen particles beside the cap (outside its width) above the cap's bottom face."""
+    f = plot.frame_near(plot.frames_with_strain(case_dir, rec), strain)
+    if f is None:
+        return None, None
+    v = read_vtu(f[2])
+    p, b = v["points"], v["body"]
+    cap, sp = p[b == 1], p[b == 0]
+    face = cap[:, 1].min() - 0.0005
+    lo, hi = cap[:, 0].min() - 0.0005, cap[:, 0].max() + 0.0005
+    inner = (sp[:, 0] > lo + 0.0015) & (sp[:, 0] < hi - 0.0015)
+    outside = (sp[:, 0] < lo) | (sp[:, 0] > hi)
+    pen = 1e3 * (sp[inner, 1].max() + 0.0005 - face) if inner.any() else None
+    rise = 1e3 * max(0.0, sp[outside, 1].max() + 0.0005 - face) if outside.any() else 0.0
+    return pen, rise
+
+
+def top_row_slide_mm(case_dir, rec, strain):
+    """From the frame nearest `strain`: the specimen's top row of particles (initial y > 0.099 m)
+    relative to the cap, horizontally: (shift, spread) in mm, shift = mean dx of the row - mean dx
+    of the cap, spread = (mean dx of the row's right half - mean dx of its left half) / 2, the
+    symmetric outward slide a mean hides."""
+    f = plot.frame_near(plot.frames_with_strain(case_dir, rec), strain)
+    if f is None:
+        return None, None
+    v = read_vtu(f[2])
+    b, u = v["body"], v["displacement"]
+    x0 = v["points"] - u
+    top = (b == 0) & (x0[:, 1] > 0.099)
+    cap_dx = u[b == 1, 0].mean()
+    mid = 0.5 * (x0[b == 0, 0].min() + x0[b == 0, 0].max())
+    right, left = top & (x0[:, 0] > mid), top & (x0[:, 0] < mid)
+    return 1e3 * (u[top, 0].mean() - cap_dx), 1e3 * 0.5 * (u[right, 0].mean() - u[left, 0].mean())
+
+
 def pattern(bands):
     if bands is None:
         return "-"
@@ -190,9 +229,15 @@ def label(case):
 def report(args):
     lines = ["# Cap-specimen friction in the plane-strain triaxial test", "",
              "Written by examples/triaxial/friction/study.py. q = −(cap reaction_y) / 0.05 m, a centred "
-             "running mean over 5 recorder rows (0.5 % strain); q_bottom is the inputs' own q_kPa "
+             "running mean over 3 recorder rows (0.3 % strain); q_bottom is the inputs' own q_kPa "
              "(mean σ_yy of the specimen's bottom row of particles − σ_m0). Slide = mean horizontal "
-             "displacement of the specimen's top row of particles − that of the cap (mm; + to the right).",
+             "displacement of the specimen's top row of particles − that of the cap (mm; + to the right; "
+             "the plot, from recorders); in the table from the frames: shift = the same, outward slide = "
+             "half the difference of the mean horizontal displacements of the row's right and left "
+             "halves (a symmetric spreading under the cap, which the mean hides). Overlap: how far the "
+             "specimen's particles (centre + half spacing) reach past the cap's bottom face away from "
+             "its corners; rise: how high specimen particles beside the cap (outside its width) rise "
+             "above its bottom face, both at the last frame.",
              ""]
     curves = {}
     for test in args.tests:
@@ -254,8 +299,8 @@ def report(args):
         lines += ["![slide](slide.png)", ""]
     lines += ["## Deviator, band pattern and slide", "",
               "| test | case | peak q (kPa) | at (%) | q 5 % | q 10 % | q 15 % | q_bottom 15 % | bands 5 % | bands 10 % "
-              "| bands 15 % | slide 5 / 10 / 15 % (mm) | cap dx 15 % (mm) | wall (s) |",
-              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+              "| bands 15 % | top row vs cap: shift, outward slide at 5 / 10 / 15 % (mm) | cap dx 15 % (mm) | overlap / rise beside the cap, last frame (mm) | reached (%) | wall (s) |",
+              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     agreement = []
     for test in args.tests:
         for case in ALL_CASES:
@@ -272,24 +317,27 @@ def report(args):
             k = int(np.argmax(np.where(early, rec["q"], -np.inf)))
             qs = [at(rec, "q", s) for s in STRAINS]
             bands = [pattern(bands_at(d, plot.read_recorders(d), s)) for s in STRAINS]
-            slides = [at(rec, "slide_mm", s) for s in STRAINS]
+            raw = plot.read_recorders(d)
+            slides = [top_row_slide_mm(d, raw, s) for s in STRAINS]
             capdx = at(rec, "cap_dx_m", 0.15)
+            pen, rise = overlap_mm(d, plot.read_recorders(d), float(e.max()))
             lines.append("| " + " | ".join([
                 test, label(case), f"{rec['q'][k]:.1f}", f"{100 * e[k]:.1f}", *[fmt(q, ".1f") for q in qs],
                 fmt(at(rec, "q_kPa", 0.15), ".1f"), *bands,
-                " / ".join(fmt(s, "+.2f") for s in slides), fmt(None if capdx is None else 1e3 * capdx, "+.2f"),
-                fmt(run.get("wall_s"), ".0f")]) + " |")
-            if case in ("fixed", "bonded", "free"):
-                # The two q definitions over the curve, 1 % to the end (raw reaction, not smoothed).
+                " / ".join(f"{fmt(a, '+.2f')}, {fmt(b, '+.2f')}" for a, b in slides), fmt(None if capdx is None else 1e3 * capdx, "+.2f"),
+                f"{fmt(pen, '+.2f')} / {fmt(rise, '.1f')}", f"{100 * e.max():.1f}"
+                + ("" if run.get("ok", True) else " (failed)"), fmt(run.get("wall_s"), ".0f")]) + " |")
+            if True:
+                # The two q definitions over the curve, 1 % to the end, both smoothed alike.
                 sel = e >= 0.01
-                qb = rec["q_kPa"][sel]
+                qb = smooth(rec["q_kPa"])[sel]
                 qr = rec["q"][sel]
                 agreement.append((test, case, float(np.max(np.abs(qr - qb) / np.abs(qb))),
                                   float(np.mean(np.abs(qr - qb) / np.abs(qb))),
-                                  float(np.max(rec["q"][early]) / np.max(rec["q_kPa"][early]) - 1)))
-    lines += ["", "## The two definitions of q (bonded cap)", "",
-              "Relative difference between q from the cap's reaction (smoothed as above) and the inputs' "
-              "q_kPa (bottom row's σ_yy − σ_m0), over 1-15 % strain:", "",
+                                  float(np.max(rec["q"][early]) / np.max(smooth(rec["q_kPa"])[early]) - 1)))
+    lines += ["", "## The two definitions of q", "",
+              "Relative difference between q from the cap's reaction and the inputs' q_kPa (bottom row's "
+              "σ_yy − σ_m0), both smoothed as above, over 1-15 % strain, and the ratio of their peaks:", "",
               "| test | case | max | mean | peak ratio − 1 |", "|---|---|---|---|---|"]
     for t, c, mx, mn, pk in agreement:
         lines.append(f"| {t} | {c} | {100 * mx:.2f} % | {100 * mn:.2f} % | {100 * pk:+.2f} % |")

@@ -3,6 +3,7 @@
 usage: /usr/bin/python3 examples/triaxial/friction/study.py [--tests test1 test2 test3]
            [--cases fixed free mu0 mu0.1 mu0.2 mu0.3 mu0.5 rough] [--jobs 2] [--strain 0.15]
            [--results results/triaxial/friction] [--tsuchi build/app/tsuchi] [--no-run]
+           [--set KEY=VALUE ...] [--snapshots]
 
 For each test and case it writes a variant of examples/triaxial/TEST_fixed.toml (or _free) into
 RESULTS/TEST_CASE/input.toml and runs it with --threads 1, --jobs runs at a time:
@@ -104,6 +105,8 @@ def run_case(test, case, args):
     cmd = [args.tsuchi, "run", inp, "--output", out, "--threads", "1",
            "--set", f"recorders.0.stop_above={args.strain:g}",
            "--set", f"time.end={args.strain * 5 + 0.05:g}"]
+    for extra in args.set:
+        cmd += ["--set", extra]
     rec = {"case": name, "command": " ".join(cmd)}
     t0 = time.perf_counter()
     with open(os.path.join(out, "run.log"), "w") as log:
@@ -239,6 +242,8 @@ def report(args):
              "its corners; rise: how high specimen particles beside the cap (outside its width) rise "
              "above its bottom face, both at the last frame.",
              ""]
+    if args.set:
+        lines += ["Every run with " + ", ".join(f"`--set {x}`" for x in args.set) + ".", ""]
     curves = {}
     for test in args.tests:
         for case in ALL_CASES:
@@ -355,6 +360,8 @@ def main(argv=None):
     p.add_argument("--results", default=os.path.join(REPO, "results", "triaxial", "friction"))
     p.add_argument("--tsuchi", default=os.path.join(REPO, "build", "app", "tsuchi"))
     p.add_argument("--no-run", action="store_true")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="one more override for every run, e.g. 'solver.anti_locking=\"none\"'")
     p.add_argument("--snapshots", action="store_true", help="draw shear-strain snapshots per case")
     args = p.parse_args(argv)
     args.results = os.path.abspath(args.results)

@@ -5,7 +5,7 @@ beside the bonded footing of footing.toml.
 
     /usr/bin/python3 examples/footing/contact_study.py [--tsuchi build/app/tsuchi]
         [--out results/footing_contact] [--cells 10 20 40] [--kinds rough smooth bonded]
-        [--jobs 2] [--plot-only]
+        [--jobs 2] [--plot-only] [--set KEY=VALUE ...]
 
 Runs --jobs at a time with --threads 1; writes table.md and footing_contact.png into --out.
 q/c is the mean of the reaction recorder over s/B = 0.05 to 0.10 (study.py's plateau)."""
@@ -20,6 +20,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 from study import PHI, curve, plateau, prandtl_nc  # noqa: E402
 
+EXTRA = []  # --set overrides for every run
 INPUTS = {"rough": "footing_rough.toml", "smooth": "footing_smooth.toml", "bonded": "footing.toml"}
 
 
@@ -27,6 +28,8 @@ def run(tsuchi, out, kind, cells):
     os.makedirs(out, exist_ok=True)
     cmd = [tsuchi, "run", os.path.join(HERE, INPUTS[kind]), "-q", "--threads", "1", "--output", out,
            "--set", "output.frames=false", "--set", f"grid.cell_size={1.0 / cells:g}"]
+    for extra in EXTRA:
+        cmd += ["--set", extra]
     start = time.monotonic()
     r = subprocess.run(cmd, capture_output=True, text=True)
     wall = time.monotonic() - start
@@ -46,7 +49,10 @@ def main():
     ap.add_argument("--kinds", nargs="+", default=["rough", "smooth"], choices=list(INPUTS))
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--plot-only", action="store_true")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="one more override for every run, e.g. 'solver.anti_locking=\"none\"'")
     a = ap.parse_args()
+    EXTRA.extend(a.set)
     nc = prandtl_nc(PHI)
     os.makedirs(a.out, exist_ok=True)
     jobs = [(k, c) for c in a.cells for k in a.kinds]
@@ -58,7 +64,8 @@ def main():
         out = os.path.join(a.out, f"{k}_{c}")
         if os.path.exists(os.path.join(out, "recorders.csv")):
             results[(k, c)] = curve(out)
-    lines = [f"q/c over s/B = 0.05-0.10 against Prandtl's N_c = {nc:.3f} (phi = {PHI} deg; 2 + pi = 5.142)", "",
+    lines = [f"q/c over s/B = 0.05-0.10 against Prandtl's N_c = {nc:.3f} (phi = {PHI} deg; 2 + pi = 5.142)"
+             + "".join(f"; --set {x}" for x in a.set), "",
              "| footing | " + " | ".join(f"{c} cells/B" for c in a.cells) + " |", "|---|" + "---|" * len(a.cells)]
     for k in a.kinds:
         cells = []

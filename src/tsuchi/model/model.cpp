@@ -207,7 +207,18 @@ void check_memory(const Config& c, const Grid<D>& g) {
   for (const auto& b : c.bodies)
     particles += b.shape ? lattice<D>(b, g).total : static_cast<double>(b.particles->x.size());
   const bool affine = c.solver.velocity_transfer == VelocityTransfer::Apic;
-  const double bytes = memory_estimate<D>(static_cast<double>(g.size()), particles, affine);
+  double bytes = memory_estimate<D>(static_cast<double>(g.size()), particles, affine);
+  // Contact between bodies adds a velocity field per body of a frictional or rough pair (at most,
+  // plus one shared), each with its mass gradient and node-averaged volumetric strain.
+  std::vector<int> in_pairs;
+  for (const auto& k : c.contacts)
+    if (k.law != ContactConfig::Law::Bonded) in_pairs.insert(in_pairs.end(), {k.body_a, k.body_b});
+  std::sort(in_pairs.begin(), in_pairs.end());
+  in_pairs.erase(std::unique(in_pairs.begin(), in_pairs.end()), in_pairs.end());
+  if (!in_pairs.empty()) {
+    const double per_field = static_cast<double>(NodalField<D>::bytes_per_slot() + sizeof(Vec<D>) + 2 * sizeof(double) + 1);
+    bytes += 1.25 * static_cast<double>(in_pairs.size() + 1) * per_field * static_cast<double>(g.size());
+  }
   const double avail = available_memory();
   if (avail > 0.0 && bytes > avail)
     throw InputError(fmt::format(

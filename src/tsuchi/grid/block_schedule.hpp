@@ -101,6 +101,12 @@ class BlockSchedule {
   // The active tiles, increasing: for reductions that combine per-tile partial results in tile
   // order, the same for every thread count.
   const std::vector<std::int32_t>& active_tiles() const { return active_tiles_; }
+  // Whether grid slot k lies on an active tile: one the latest p2g cleared and filled (the slots of
+  // the other tiles hold stale values). A binary search, for the few listed nodes (held, loaded,
+  // wall) that passes visit outside for_active_nodes.
+  bool on_active_tile(std::int64_t k) const {
+    return std::binary_search(active_tiles_.begin(), active_tiles_.end(), static_cast<std::int32_t>(k / Grid<D>::kTileNodes));
+  }
 
  private:
   bool valid_ = false;                          // built, and the particles not reordered since

@@ -47,12 +47,6 @@ Vec<D> unit(const Vec<D>& n) {
   return l > 0.0 ? Vec<D>(n / l) : Vec<D>::Zero();
 }
 
-template <int D>
-bool on_active_tile(const BlockSchedule<D>& schedule, std::int64_t k) {
-  const auto& tiles = schedule.active_tiles();
-  return std::binary_search(tiles.begin(), tiles.end(), static_cast<std::int32_t>(k / Grid<D>::kTileNodes));
-}
-
 template <class T>
 void size_to(std::vector<T>& a, std::size_t n) {
   if (a.size() != n) a.assign(n, T{});
@@ -223,7 +217,7 @@ void ContactStage<D>::against_walls(Model<D>& m, const BlockSchedule<D>& schedul
   for (std::size_t w = 0; w < c.walls.size(); ++w) {
     const auto& wall = c.walls[w];
     for (const std::int64_t kk : wall.nodes) {
-      if (!on_active_tile(schedule, kk)) continue;
+      if (!schedule.on_active_tile(kk)) continue;
       const auto k = static_cast<std::size_t>(kk);
       const unsigned held = m.grid.fixed_g[k];
       for (int f = f0; f <= f1; ++f) {

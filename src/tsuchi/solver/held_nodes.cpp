@@ -10,17 +10,10 @@ namespace tsuchi {
 
 namespace {
 
-// A node of an active tile: one the latest p2g cleared and filled (the others hold stale values).
-template <int D>
-bool on_active_tile(const BlockSchedule<D>& schedule, std::int64_t k) {
-  const auto& tiles = schedule.active_tiles();
-  return std::binary_search(tiles.begin(), tiles.end(), static_cast<std::int32_t>(k / Grid<D>::kTileNodes));
-}
-
 // A node the solve takes: on an active tile and heavier than the mass floor.
 template <int D>
 bool has_mass(const Model<D>& m, const BlockSchedule<D>& schedule, const NodalField<D>& n, std::int64_t k) {
-  return on_active_tile(schedule, k) && n.m[static_cast<std::size_t>(k)] > m.step.node_mass_floor;
+  return schedule.on_active_tile(k) && n.m[static_cast<std::size_t>(k)] > m.step.node_mass_floor;
 }
 
 }  // namespace
@@ -83,7 +76,7 @@ void HeldNodes<D>::set_velocity(const Model<D>& m, const BlockSchedule<D>& sched
     const Vec<D>& v = at == At::Start ? start_[s] : end_[s];
     for (std::size_t j = 0; j < set.driven_nodes.size(); ++j) {
       const std::int64_t k = set.driven_nodes[j];
-      if (!on_active_tile(schedule, k)) continue;
+      if (!schedule.on_active_tile(k)) continue;
       for (int d = 0; d < D; ++d)
         if (set.driven_mask[j] & (1u << d)) n.v[k][d] = v[d];
     }
@@ -98,7 +91,7 @@ void HeldNodes<D>::set_solve(const Model<D>& m, const BlockSchedule<D>& schedule
     const Vec<D>& v1 = end_[s];
     for (std::size_t j = 0; j < set.driven_nodes.size(); ++j) {
       const std::int64_t k = set.driven_nodes[j];
-      if (!on_active_tile(schedule, k)) continue;
+      if (!schedule.on_active_tile(k)) continue;
       for (int d = 0; d < D; ++d)
         if (set.driven_mask[j] & (1u << d)) {
           n.v[k][d] = v0[d];

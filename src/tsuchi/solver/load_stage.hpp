@@ -67,13 +67,12 @@ class LoadStage {
       for (std::size_t e = 0; e < load.id.size(); ++e)
         spread<Kernel>(g, p, index_[l][e], f * load.force[e], f_of(index_[l][e]));
     }
-    const auto& tiles = schedule.active_tiles();
     for (std::size_t l = 0; l < loads.nodal.size(); ++l) {
       const auto& load = loads.nodal[l];
       for (std::size_t e = 0; e < load.node.size(); ++e) {
         const std::int64_t k = load.node[e];
         // An inactive tile's slots are stale (p2g clears a tile only when it becomes active).
-        if (!std::binary_search(tiles.begin(), tiles.end(), static_cast<std::int32_t>(k / Grid<D>::kTileNodes))) continue;
+        if (!schedule.on_active_tile(k)) continue;
         const auto s = static_cast<std::size_t>(k);
         double M = 0.0;
         for (int b = first; b <= last; ++b) M += fields[static_cast<std::size_t>(b)].m[s];

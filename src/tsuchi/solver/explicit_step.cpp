@@ -1007,32 +1007,34 @@ void ExplicitSolver<D>::mark_driven_nodes() const {
   }
 }
 
+// f(k, kind) for every node where contact acted in the latest step, serially in storage order.
+template <int D>
+template <class F>
+void ExplicitSolver<D>::for_each_contact_node(F&& f) const {
+  if (!contact_on() || !stepped_) return;
+  const auto& acted = contact_.acted();
+  constexpr std::int64_t nodes = Grid<D>::kTileNodes;
+  for (const std::int32_t t : schedule_.active_tiles())
+    for (std::int64_t k = t * nodes; k < (t + 1) * nodes; ++k)
+      if (const unsigned kind = acted[static_cast<std::size_t>(k)] & 3u) f(k, static_cast<int>(kind));
+}
+
 template <int D>
 std::vector<typename ExplicitSolver<D>::ContactNode> ExplicitSolver<D>::contact_nodes() const {
   std::vector<ContactNode> r;
-  if (!contact_on() || !stepped_) return r;
-  const auto& acted = contact_.acted();
   const auto& g = m_.grid;
-  constexpr std::int64_t nodes = Grid<D>::kTileNodes;
-  for (const std::int32_t t : schedule_.active_tiles())
-    for (std::int64_t k = t * nodes; k < (t + 1) * nodes; ++k) {
-      const unsigned kind = acted[static_cast<std::size_t>(k)] & 3u;
-      if (!kind) continue;
-      r.push_back({g.position(g.ijk(k)), contact_.normal()[static_cast<std::size_t>(k)],
-                   contact_.force()[static_cast<std::size_t>(k)] / step_dt_, static_cast<int>(kind)});
-    }
+  for_each_contact_node([&](std::int64_t k, int kind) {
+    r.push_back({g.position(g.ijk(k)), contact_.normal()[static_cast<std::size_t>(k)],
+                 contact_.force()[static_cast<std::size_t>(k)] / step_dt_, kind});
+  });
   return r;
 }
 
 template <int D>
 std::int64_t ExplicitSolver<D>::contact_node_count() const {
   if (!contact_on()) return -1;
-  if (!stepped_) return 0;
   std::int64_t n = 0;
-  const auto& acted = contact_.acted();
-  constexpr std::int64_t nodes = Grid<D>::kTileNodes;
-  for (const std::int32_t t : schedule_.active_tiles())
-    for (std::int64_t k = t * nodes; k < (t + 1) * nodes; ++k) n += (acted[static_cast<std::size_t>(k)] & 3u) != 0;
+  for_each_contact_node([&](std::int64_t, int) { ++n; });
   return static_cast<std::int64_t>(reduce::sum(static_cast<double>(n)));
 }
 

@@ -115,6 +115,7 @@ class ExplicitSolver {
   Vec<D> acceleration_at(const NodalField<D>& n, std::int64_t k, const Vec<D>& v, std::size_t driven_offset = 0,
                          bool undamped = false) const;
   void mark_contact_nodes();
+  template <class F> void for_each_contact_node(F&& f) const;
   using At = typename HeldNodes<D>::At;
   void nodal_velocity(At driven_at = At::Start);
   void solve_grid(double dt);

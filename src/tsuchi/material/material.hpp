@@ -22,6 +22,8 @@
 // and is registered by adding it to ConstitutiveModel below (its header included here). Nothing
 // else changes: the input reader, particle storage, frame fields, recorder quantities,
 // checkpoints and the time step follow from these.
+#include "tsuchi/material/drucker_prager.hpp"
+#include "tsuchi/material/drucker_prager_input.hpp"
 #include "tsuchi/material/linear_elastic.hpp"
 #include "tsuchi/material/mohr_coulomb.hpp"
 #include "tsuchi/material/mohr_coulomb_input.hpp"
@@ -36,7 +38,7 @@
 namespace tsuchi {
 
 // The registration: every constitutive model the program knows.
-using ConstitutiveModel = std::variant<LinearElastic, MohrCoulomb>;
+using ConstitutiveModel = std::variant<LinearElastic, MohrCoulomb, DruckerPrager>;
 
 struct Material {
   std::string name;

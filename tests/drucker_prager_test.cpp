@@ -180,6 +180,7 @@ void check_random_returns(const DruckerPrager& m, unsigned seed) {
   EXPECT_GT(shear, 1000);
   EXPECT_GT(tension + corner, 300);
   EXPECT_GT(corner, 100);
+  EXPECT_EQ(flac_inadmissible, corner) << "FLAC's correction fails exactly where the return goes to the corner";
   std::printf("q_psi %.3f, sigma_t %.3f kPa: %d shear, %d tension, %d corner returns; FLAC's beyond a surface: %d\n",
               s.q_psi, s.sigma_t / kPa, shear, tension, corner, flac_inadmissible);
 }

@@ -2,11 +2,14 @@
 // three matchings to Mohr-Coulomb against closed forms and against Mohr-Coulomb itself through the
 // element driver, and the `tsuchi element` example.
 #include "tsuchi/element/element_driver.hpp"
+#include "tsuchi/io/element_reader.hpp"
 #include "tsuchi/material/material.hpp"
 
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
+
+#include <fmt/format.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
@@ -312,6 +315,59 @@ TEST(DruckerPrager, TriaxialPeaksAreTheClosedForms) {
         EXPECT_NEAR(e_run.max / mc_e.max, 1.0, 0.005);
       }
     }
+  }
+}
+
+// The presets of `tsuchi element` with a drucker_prager material read from its input table.
+std::vector<element::ElementRow> run_preset(const std::string& match, const std::string& type, double p,
+                                            const std::string& drainage = "drained") {
+  const std::string text = fmt::format(R"([[materials]]
+name = "soil"
+model = "drucker_prager"
+density = 1530.0
+shear_modulus = 1.311e6
+poisson_ratio = 0.2
+cohesion = 8.5e3
+friction_angle = 30.5
+match = "{}"
+
+[test]
+type = "{}"
+confining_pressure = {}
+axial_strain = 0.15
+drainage = "{}"
+increments = 1500
+)",
+                                       match, type, p, drainage);
+  const io::ElementInput in = io::read_element_string(text, "element.toml");
+  return element::drive_element(in.material, in.path, in.iteration);
+}
+
+// The triaxial_extension preset: the inner cone's peak is Mohr-Coulomb's extension peak
+// p (1 - 1/N) + 2 c / sqrt(N), and the closed form above.
+TEST(DruckerPrager, TriaxialExtensionPresetReachesTheInnerConePeak) {
+  const double sn = std::sin(deg(30.5)), N = (1 + sn) / (1 - sn), c = 8.5 * kPa;
+  for (double p : {50 * kPa, 100 * kPa}) {
+    double q = 0;
+    for (const auto& row : run_preset("extension", "triaxial_extension", p)) q = std::max(q, row.deviator());
+    EXPECT_NEAR(q / (p * (1 - 1 / N) + 2 * c / std::sqrt(N)), 1.0, 1e-6) << "p = " << p;
+  }
+}
+
+// Undrained triaxial compression with psi = 0: no plastic volume change, so with the volume held
+// sigma_m stays at -p and DP1 gives q = sqrt3 (k_phi + q_phi p) for every matching.
+TEST(DruckerPrager, UndrainedTriaxialPeakAtConstantMeanStress) {
+  for (ConeMatch match : kMatches) {
+    const DruckerPragerStrength s = soil(match).strength();
+    const std::string name = cone_match_names[static_cast<std::size_t>(match)];
+    double q = 0, p_end = 0;
+    for (const auto& row : run_preset(name, "triaxial_compression", 50 * kPa, "undrained")) {
+      q = std::max(q, row.deviator());
+      p_end = row.p();
+      EXPECT_EQ(row.state_value("plastic_volumetric_strain"), 0.0);
+    }
+    EXPECT_NEAR(p_end / (50 * kPa), 1.0, 1e-9) << name;
+    EXPECT_NEAR(q / (r3 * (s.k_phi + s.q_phi * 50 * kPa)), 1.0, 1e-6) << name;
   }
 }
 

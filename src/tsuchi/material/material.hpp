@@ -15,7 +15,10 @@
 //   std::string describe() const;     its parameters after the moduli, starting ", " (tsuchi element)
 // optionally k0_hint (a string_view added to a refused K0 profile), imperfection_limit() (why
 // an imperfection cannot apply) and bool released(StateRef) (the last update released the point
-// in tension: its expansion is an opening between particles, solver.hold_released_volume), and
+// in tension: its expansion is an opening between particles, solver.hold_released_volume),
+// M with_cell_size(double h) const (the model for a grid of cell size h, called once where a run
+// builds its materials: a strength that depends on the mesh, like a softening regularised by a
+// band width; the element driver has no grid and uses the model as read), and
 // with a reader of its input parameters beside it, in namespace tsuchi,
 //   template <class Table, class Warn> M read_model_parameters(Table&, const LinearElastic& moduli,
 //                                                              Warn&& warn, std::type_identity<M>);
@@ -25,6 +28,8 @@
 #include "tsuchi/material/linear_elastic.hpp"
 #include "tsuchi/material/mohr_coulomb.hpp"
 #include "tsuchi/material/mohr_coulomb_input.hpp"
+#include "tsuchi/material/mohr_coulomb_softening.hpp"
+#include "tsuchi/material/mohr_coulomb_softening_input.hpp"
 #include "tsuchi/material/state_field.hpp"
 
 #include <array>
@@ -36,7 +41,7 @@
 namespace tsuchi {
 
 // The registration: every constitutive model the program knows.
-using ConstitutiveModel = std::variant<LinearElastic, MohrCoulomb>;
+using ConstitutiveModel = std::variant<LinearElastic, MohrCoulomb, MohrCoulombSoftening>;
 
 struct Material {
   std::string name;

@@ -187,7 +187,7 @@ void same_as_mohr_coulomb() {
       ASSERT_EQ(a.field(f), b.field(f)) << f << ", step " << n;
     ++modes[static_cast<int>(a.field("yield_mode"))];
   }
-  EXPECT_GT(modes[1], 100);
+  EXPECT_GT(modes[1], 30);
   EXPECT_GT(modes[2], 100);
 }
 TEST(MohrCoulombSoftening, ConstantTablesAreMohrCoulombBitForBit3D) { same_as_mohr_coulomb<3>(); }
@@ -209,7 +209,7 @@ MohrCoulombSoftening softening(double psi_deg) {
 TEST(MohrCoulombSoftening, RandomTrialsLandOnTheCurrentSurface) {
   const MohrCoulombSoftening m = softening(10.0);
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> wide(-300 * kPa, 50 * kPa), u01(0, 1);
+  std::uniform_real_distribution<double> wide(-300 * kPa, 50 * kPa), near_apex(-40 * kPa, 50 * kPa), u01(0, 1);
   const double scale = 100 * kPa;
   int shear = 0, tension = 0;
   for (int n = 0; n < 20000; ++n) {
@@ -219,8 +219,9 @@ TEST(MohrCoulombSoftening, RandomTrialsLandOnTheCurrentSurface) {
     s[MohrCoulombSoftening::kCohesionFactor] = 1 + 0.02 * (u01(rng) - 0.5);
     s[MohrCoulombSoftening::kFrictionFactor] = 1 + 0.02 * (u01(rng) - 0.5);
     const double k0 = s[MohrCoulombSoftening::kSoftening];
+    auto& u = n % 2 ? wide : near_apex;
     Voigt<3> sig;
-    sig << wide(rng), wide(rng), wide(rng), 0.3 * wide(rng), 0.3 * wide(rng), 0.3 * wide(rng);
+    sig << u(rng), u(rng), u(rng), 0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng);
     const Voigt<3> trial = sig;
     m.update<3>(sig, Voigt<3>::Zero(), Mat<3>::Zero(), m.context(), s);
     const MohrCoulomb at = m.at(k0);
@@ -270,7 +271,8 @@ TEST(MohrCoulombSoftening, ObjectiveUnderRotation) {
     m.update<3>(sb, to_voigt<3>(R * to_matrix<3>(d) * R.transpose()), Mat3::Zero(), m.context(), b.ref());
     const Mat3 diff = R * to_matrix<3>(sa) * R.transpose() - to_matrix<3>(sb);
     ASSERT_LT(diff.cwiseAbs().maxCoeff(), 1e-8 * 100 * kPa) << n;
-    ASSERT_NEAR(a.field("softening_parameter"), b.field("softening_parameter"), 1e-12) << n;
+    // k adds up the steps' rounding: 1e-9 of its value.
+    ASSERT_NEAR(a.field("softening_parameter"), b.field("softening_parameter"), 1e-9 * a.field("softening_parameter")) << n;
     yielded += a.field("yield_mode") == 1.0;
     // The path is a random walk that keeps the point in contact with a shrinking surface: its
     // stress is rebuilt on each side and must stay together.

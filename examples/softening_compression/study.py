@@ -2,9 +2,12 @@
 """Mesh dependence of a softening plane-strain compression, and its regularisation.
 
 Runs specimen.toml at two cell sizes (2.5 and 1.25 mm), each with the cohesion table as given and
-with softening_length = 5 mm (the table's k scaled by L / h), then writes into reports/:
-curves.csv (axial strain and q of every run), curves.png (the four curves) and summary.md (peak
-q, q at 3 %, 4 % and 5 % axial strain, the band measures of the last frame), also printed.
+with softening_length L = 2.5 mm (the table's k scaled by L / h: 1 on the coarse grid, 2 on the fine
+one), then writes into reports/:
+curves.csv (axial strain and q of every run), curves.png (the four curves), bands.png (the
+last frames) and summary.md (peak
+q, the axial strain from the peak to the half drop, q at 2.5, 3, 4 and 5 % axial strain, the band
+measures of the last frame), also printed.
 
 usage: study.py [--tsuchi PATH] [--jobs N] [--strain 0.05] [--results DIR]
 """
@@ -25,13 +28,13 @@ from vtu import read_pvd, read_vtu  # noqa: E402
 
 CONFINING_KPA = 10.0
 PEAK_C_KPA, RESIDUAL_C_KPA, PHI_DEG = 8.5, 1.0, 30.5
-LENGTH = 0.005  # m, softening_length of the regularised runs
+LENGTH = 0.0025  # m, softening_length of the regularised runs: the coarse cell, so the coarse run is the same with and without it
 
 CASES = [  # name, cell size (m), softening_length (m) or None
     ("h2.5_table", 0.0025, None),
     ("h1.25_table", 0.00125, None),
-    ("h2.5_L5", 0.0025, LENGTH),
-    ("h1.25_L5", 0.00125, LENGTH),
+    ("h2.5_L2.5", 0.0025, LENGTH),
+    ("h1.25_L2.5", 0.00125, LENGTH),
 ]
 
 
@@ -100,7 +103,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--tsuchi", default=os.path.join(REPO, "build", "app", "tsuchi"))
     ap.add_argument("--jobs", type=int, default=1)
-    ap.add_argument("--strain", type=float, default=0.05)
+    ap.add_argument("--strain", type=float, default=0.06)
     ap.add_argument("--results", default=os.path.join(REPO, "results", "softening_compression"))
     args = ap.parse_args()
 
@@ -122,19 +125,23 @@ def main():
     peak_mc, res_mc = mohr_coulomb_q(PEAK_C_KPA), mohr_coulomb_q(RESIDUAL_C_KPA)
     lines.append(f"Mohr-Coulomb plane-strain q at sigma3 = 10 kPa: peak (c = 8.5 kPa) {peak_mc:.2f} kPa, "
                  f"residual (c = 1 kPa) {res_mc:.2f} kPa.\n")
-    lines.append("| run | cell (mm) | softening_length | peak q (kPa) | at axial strain | q at 3 % | q at 4 % | "
-                 "q at 5 % | band share | band spread | band angle (deg) | wall time (s) |")
-    lines.append("|---|---|---|---|---|---|---|---|---|---|---|---|")
+    at = (0.025, 0.03, 0.04, 0.05)
+    lines.append("| run | cell (mm) | softening_length | peak q (kPa) | at axial strain | peak to half drop | "
+                 + " | ".join(f"q at {100 * a:g} %" for a in at) + " | band share | band spread | band angle (deg) | "
+                 "wall time (s) |")
+    lines.append("|---" * (10 + len(at)) + "|")
     for name, cell, length, seconds, out in runs:
         strain, q = read_curve(out)
         for e, v in zip(strain, q):
             rows.append(f"{name},{cell},{length if length else ''},{e:.6g},{v:.6g}")
         k = int(np.argmax(q))
+        # Softening strain: from the peak to the first row below half-way to the residual.
+        below = np.nonzero(q[k:] < 0.5 * (q[k] + res_mc))[0]
+        drop = f"{100 * (strain[k + below[0]] - strain[k]):.2f} %" if len(below) else "-"
         b = band_measures(last_frame(out))
         lines.append(f"| {name} | {cell * 1e3:g} | {f'{length * 1e3:g} mm' if length else 'none'} | {q[k]:.2f} | "
-                     f"{100 * strain[k]:.2f} % | {q_at(strain, q, 0.03):.2f} | {q_at(strain, q, 0.04):.2f} | "
-                     f"{q_at(strain, q, 0.05):.2f} | {b['share']:.2f} | {b['spread']:.2f} | {b['angle']:.1f} | "
-                     f"{seconds:.0f} |")
+                     f"{100 * strain[k]:.2f} % | {drop} | " + " | ".join(f"{q_at(strain, q, a):.2f}" for a in at)
+                     + f" | {b['share']:.2f} | {b['spread']:.2f} | {b['angle']:.1f} | {seconds:.0f} |")
     with open(os.path.join(reports, "curves.csv"), "w") as f:
         f.write("run,cell_size_m,softening_length_m,axial_strain,q_kPa\n" + "\n".join(rows) + "\n")
     summary = "\n".join(lines) + "\n"
@@ -146,11 +153,13 @@ def main():
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    styles = {"h2.5_table": ("C0", "-"), "h1.25_table": ("C1", "-"), "h2.5_L5": ("C0", "--"), "h1.25_L5": ("C1", "--")}
+    styles = {"h2.5_table": ("C0", "-"), "h1.25_table": ("C1", "-"), "h2.5_L2.5": ("C0", "--"), "h1.25_L2.5": ("C1", "--")}
     for name, cell, length, seconds, out in runs:
         strain, q = read_curve(out)
         colour, dash = styles[name]
         label = f"h = {cell * 1e3:g} mm, " + (f"softening_length = {length * 1e3:g} mm" if length else "table as given")
+        if length and abs(length - cell) < 1e-12:
+            label += " (= table as given)"
         ax.plot(100 * strain, q, color=colour, linestyle=dash, label=label)
     ax.axhline(peak_mc, color="grey", lw=0.8, ls=":")
     ax.axhline(res_mc, color="grey", lw=0.8, ls=":")
@@ -163,6 +172,21 @@ def main():
     ax.grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(os.path.join(reports, "curves.png"), dpi=120)
+
+    # The last frame of each run: plastic shear strain on the deformed specimen.
+    fig, axes = plt.subplots(1, len(runs), figsize=(3 * len(runs), 4.8))
+    for ax, (name, cell, length, seconds, out) in zip(axes, runs):
+        f = read_vtu(last_frame(out))
+        sel = f["body"] == 0
+        p = f["points"][sel]
+        ax.scatter(p[:, 0], p[:, 1], c=f["plastic_shear_strain"][sel], s=0.5 if cell < 0.002 else 2, cmap="viridis")
+        ax.set_aspect("equal")
+        ax.set_title(name, fontsize=9)
+        ax.set_xticks([])
+        ax.set_yticks([])
+    fig.suptitle(f"plastic shear strain at {100 * args.strain:g} % axial strain")
+    fig.tight_layout()
+    fig.savefig(os.path.join(reports, "bands.png"), dpi=100)
 
 
 if __name__ == "__main__":

@@ -179,14 +179,14 @@ def main():
         f = read_vtu(last_frame(out))
         sel = f["body"] == 0
         p = f["points"][sel]
-        ax.scatter(p[:, 0], p[:, 1], c=f["plastic_shear_strain"][sel], s=0.5 if cell < 0.002 else 2, cmap="viridis")
+        ax.scatter(p[:, 0], p[:, 1], c=f["plastic_shear_strain"][sel], s=0.3 if cell < 0.002 else 1.2, cmap="viridis")
         ax.set_aspect("equal")
         ax.set_title(name, fontsize=9)
         ax.set_xticks([])
         ax.set_yticks([])
     fig.suptitle(f"plastic shear strain at {100 * args.strain:g} % axial strain")
     fig.tight_layout()
-    fig.savefig(os.path.join(reports, "bands.png"), dpi=100)
+    fig.savefig(os.path.join(reports, "bands.png"), dpi=60)
 
 
 if __name__ == "__main__":

@@ -84,7 +84,8 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
   std::string cells;
   for (int d = 0; d < D; ++d) cells += fmt::format("{}{}", d ? " x " : "", c.grid.cells[d]);
   fmt::print("grid       {} cells of {} m, {} nodes\n", cells, m.grid.h, m.grid.node_count());
-  for (const auto& mat : c.materials) fmt::print("material   {}\n", io::describe_material(mat));
+  // The model's materials: set for the grid (material.hpp, with_cell_size).
+  for (const auto& mat : m.materials) fmt::print("material   {}\n", io::describe_material(mat));
   for (std::size_t b = 0; b < c.bodies.size(); ++b) {
     const BodyConfig& bc = c.bodies[b];
     std::string materials = fmt::format("material \"{}\"", bc.material);

@@ -15,10 +15,14 @@
 //   std::string describe() const;     its parameters after the moduli, starting ", " (tsuchi element)
 // optionally k0_hint (a string_view added to a refused K0 profile), imperfection_limit() (why
 // an imperfection cannot apply), bool released(StateRef) (the last update released the point
-// in tension: its expansion is an opening between particles, solver.hold_released_volume) and
+// in tension: its expansion is an opening between particles, solver.hold_released_volume),
 //   void start(const Eigen::Vector3d& principal, StateRef) const;   state that depends on the
 //                                     stress a point starts from (an OCR's preconsolidation
-//                                     pressure), called once per point before outside(), and
+//                                     pressure), called once per point before outside(),
+//   M with_cell_size(double h) const; the model for a grid of cell size h, called once where a
+//                                     run builds its materials (a strength that depends on the
+//                                     mesh, like a softening regularised by a band width; the
+//                                     element driver has no grid and uses the model as read), and
 // with a reader of its input parameters beside it, in namespace tsuchi,
 //   template <class Table, class Warn> M read_model_parameters(Table&, const LinearElastic& moduli,
 //                                                              Warn&& warn, std::type_identity<M>);
@@ -30,6 +34,8 @@
 #include "tsuchi/material/linear_elastic.hpp"
 #include "tsuchi/material/mohr_coulomb.hpp"
 #include "tsuchi/material/mohr_coulomb_input.hpp"
+#include "tsuchi/material/mohr_coulomb_softening.hpp"
+#include "tsuchi/material/mohr_coulomb_softening_input.hpp"
 #include "tsuchi/material/state_field.hpp"
 
 #include <array>
@@ -41,7 +47,7 @@
 namespace tsuchi {
 
 // The registration: every constitutive model the program knows.
-using ConstitutiveModel = std::variant<LinearElastic, MohrCoulomb, DruckerPrager>;
+using ConstitutiveModel = std::variant<LinearElastic, MohrCoulomb, DruckerPrager, MohrCoulombSoftening>;
 
 struct Material {
   std::string name;

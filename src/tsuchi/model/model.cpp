@@ -444,6 +444,11 @@ Model<D> build_model(const Config& c) {
     m.grid.n_nodes[d] = c.grid.cells[d] + 1;
   }
   m.grid.h = c.grid.cell_size;
+  // A model whose strength depends on the cell size (material.hpp, with_cell_size) is set for it.
+  for (Material& mat : m.materials)
+    std::visit([&](auto& model) {
+      if constexpr (requires { model.with_cell_size(1.0); }) model = model.with_cell_size(m.grid.h);
+    }, mat.model);
   const double nodes = [&] {
     double n = 1;
     for (int d = 0; d < D; ++d) n *= m.grid.n_nodes[d];

@@ -155,9 +155,13 @@ void read_imperfection(Section& s, const Config& c, BodyConfig& b) {
   auto& im = b.imperfection;
   const Material& mat = c.materials[b.material_index];
   // An imperfection scales the strength factors of the material's state.
-  if (!has_state_field(mat, field_name::cohesion_factor) || !has_state_field(mat, field_name::friction_factor))
+  if (!has_state_field(mat, field_name::cohesion_factor) || !has_state_field(mat, field_name::friction_factor)) {
+    std::string models;
+    for (std::string_view m : models_with_state_field(field_name::friction_factor))
+      models += fmt::format("{}\"{}\"", models.empty() ? "" : ", ", m);
     s.fail_here(fmt::format("material \"{}\" of body \"{}\" has no strength to perturb; an imperfection needs "
-                            "a \"mohr_coulomb\" material", mat.name, b.name));
+                            "a material with a cohesion and a friction angle ({})", mat.name, b.name, models));
+  }
   im.amplitude = s.number("amplitude", "a relative amplitude in [0, 1)", [](double v) { return v >= 0 && v < 1; });
   im.seed = static_cast<std::uint64_t>(s.integer("seed", "a whole number >= 0", [](std::int64_t v) { return v >= 0; }, -1));
   if (!s.has("seed")) s.need("seed", "a whole number >= 0 (the same seed gives the same field)");

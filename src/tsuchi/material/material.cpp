@@ -39,6 +39,25 @@ int state_column(std::string_view name) {
   return -1;
 }
 
+namespace {
+
+template <class... M>
+std::vector<std::string_view> models_with(std::string_view name, std::variant<M...>*) {
+  std::vector<std::string_view> names;
+  const auto add = [&](std::string_view model, const auto& fields) {
+    if (std::any_of(fields.begin(), fields.end(), [&](const StateField& f) { return f.name == name; }))
+      names.push_back(model);
+  };
+  (add(M::name, M::state_fields), ...);
+  return names;
+}
+
+}  // namespace
+
+std::vector<std::string_view> models_with_state_field(std::string_view name) {
+  return models_with(name, static_cast<ConstitutiveModel*>(nullptr));
+}
+
 bool has_state_field(const Material& m, std::string_view name) {
   return std::visit(
       [&](const auto& model) {

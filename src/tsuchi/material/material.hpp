@@ -112,6 +112,9 @@ void start_state(const M& model, const Eigen::Vector3d& principal, StateRef s) {
   if constexpr (requires { model.start(principal, s); }) model.start(principal, s);
 }
 
+// The names of the registered models that have a state field named `name`, in registration order.
+std::vector<std::string_view> models_with_state_field(std::string_view name);
+
 // Whether the model of `m` has a state field named `name`.
 bool has_state_field(const Material& m, std::string_view name);
 

@@ -16,6 +16,7 @@
 // volumetric part tr(sigma_trial - sigma) / 3K is >= 0: releasing tension cannot compact.
 #include "tsuchi/core/principal.hpp"
 #include "tsuchi/core/principal_frame.hpp"
+#include "tsuchi/material/angle_scaling.hpp"
 #include "tsuchi/material/linear_elastic.hpp"
 #include "tsuchi/material/mohr_coulomb_return.hpp"
 
@@ -93,19 +94,9 @@ struct MohrCoulomb {
   }
 
   Strength strength(double c_scale, double phi_scale, const Shared& m) const {
-    // sin and cos of phi (1 + d) = phi + b from those of phi, with b = phi d: a few terms of the
-    // series of b are exact to rounding for the small d of an imperfection.
-    const double b = phi * (phi_scale - 1.0);
-    double sp, cp;
-    if (std::abs(b) < 0.03) {  // the first omitted terms are below 1e-19 of the kept ones
-      const double b2 = b * b;
-      const double sin_b = b * (1.0 - b2 / 6.0 * (1.0 - b2 / 20.0 * (1.0 - b2 / 42.0)));
-      const double cos_b = 1.0 - b2 / 2.0 * (1.0 - b2 / 12.0 * (1.0 - b2 / 30.0 * (1.0 - b2 / 56.0)));
-      sp = m.sin_phi * cos_b + m.cos_phi * sin_b;
-      cp = m.cos_phi * cos_b - m.sin_phi * sin_b;
-    } else {
-      sp = std::sin(phi + b), cp = std::cos(phi + b);
-    }
+    // sin and cos of the point's phi (1 + d) without a call to sin (angle_scaling.hpp).
+    const SinCos a = scaled_sin_cos(phi, phi_scale, m.sin_phi, m.cos_phi);
+    const double sp = a.sin, cp = a.cos;
     Strength s;
     s.c = cohesion * c_scale;
     s.N_phi = (1.0 + sp) / (1.0 - sp);

@@ -15,7 +15,9 @@
 //   std::string describe() const;     its parameters after the moduli, starting ", " (tsuchi element)
 // optionally k0_hint (a string_view added to a refused K0 profile), imperfection_limit() (why
 // an imperfection cannot apply) and bool released(StateRef) (the last update released the point
-// in tension: its expansion is an opening between particles, solver.hold_released_volume), and
+// in tension: its expansion is an opening between particles, solver.hold_released_volume),
+// static constexpr bool reads_own_elasticity (the material reader then reads no moduli and passes
+// a default LinearElastic: the model's reader reads its own), and
 // with a reader of its input parameters beside it, in namespace tsuchi,
 //   template <class Table, class Warn> M read_model_parameters(Table&, const LinearElastic& moduli,
 //                                                              Warn&& warn, std::type_identity<M>);
@@ -23,6 +25,8 @@
 // else changes: the input reader, particle storage, frame fields, recorder quantities,
 // checkpoints and the time step follow from these.
 #include "tsuchi/material/linear_elastic.hpp"
+#include "tsuchi/material/modified_cam_clay.hpp"
+#include "tsuchi/material/modified_cam_clay_input.hpp"
 #include "tsuchi/material/mohr_coulomb.hpp"
 #include "tsuchi/material/mohr_coulomb_input.hpp"
 #include "tsuchi/material/state_field.hpp"
@@ -36,7 +40,7 @@
 namespace tsuchi {
 
 // The registration: every constitutive model the program knows.
-using ConstitutiveModel = std::variant<LinearElastic, MohrCoulomb>;
+using ConstitutiveModel = std::variant<LinearElastic, MohrCoulomb, ModifiedCamClay>;
 
 struct Material {
   std::string name;

@@ -4,6 +4,7 @@
 // on a small homogeneous block.
 #include "tsuchi/element/element_driver.hpp"
 #include "tsuchi/io/config_reader.hpp"
+#include "tsuchi/io/element_reader.hpp"
 #include "tsuchi/material/material.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/run/simulation.hpp"
@@ -270,6 +271,33 @@ TEST(ModifiedCamClay, ZeroStressAndTensionAreHandled) {
     ASSERT_GE(p, 0.0) << k;
     ASSERT_LE(q * q / (m.M * m.M) + p * (p - pc), 1e-9 * pc * pc) << k;
     ASSERT_GE(m.stiffness(st.ref()).K, st.field("specific_volume") * m.p_min / m.kappa * (1 - 1e-12)) << k;
+  }
+}
+
+// The two element examples (examples/element_tests/modified_cam_clay_*.toml, their README), read
+// and driven as `tsuchi element` does.
+TEST(ModifiedCamClay, ElementExamplesReachTheirClosedForms) {
+  const std::string dir = std::string(TSUCHI_SOURCE_DIR) + "/examples/element_tests/";
+  {
+    const io::ElementInput in = io::read_element_file(dir + "modified_cam_clay_undrained_nc.toml");
+    const auto rows = element::drive_element(in.material, in.path, in.iteration);
+    const double p_f = 200 * kPa / std::pow(2.0, 0.8);
+    std::printf("example undrained NC: p' = %.4f kPa, q = %.4f kPa (closed form %.4f, %.4f)\n", rows.back().p() / kPa,
+                rows.back().q() / kPa, p_f / kPa, 1.2 * p_f / kPa);
+    EXPECT_NEAR(rows.back().p(), p_f, 0.005 * p_f);
+    EXPECT_NEAR(rows.back().q(), 1.2 * p_f, 0.005 * 1.2 * p_f);
+  }
+  {
+    const io::ElementInput in = io::read_element_file(dir + "modified_cam_clay_drained_ocr8.toml");
+    const auto rows = element::drive_element(in.material, in.path, in.iteration);
+    double q_peak = 0;
+    for (const auto& r : rows) q_peak = std::max(q_peak, r.q());
+    const ElementRow& end = rows.back();
+    std::printf("example drained OCR 8: peak q = %.3f kPa, at the end q = %.3f kPa, q/(M p') = %.4f, eps_v = %+.4f\n",
+                q_peak / kPa, end.q() / kPa, end.q() / (1.2 * end.p()), end.eps_v());
+    EXPECT_GT(q_peak, 1.1 * end.q());
+    EXPECT_NEAR(end.q(), 1.2 * end.p(), 0.02 * end.q());
+    EXPECT_LT(end.eps_v(), 0.0);
   }
 }
 

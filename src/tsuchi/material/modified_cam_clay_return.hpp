@@ -73,9 +73,11 @@ struct CamClayReturn {
     double r[2];
     Result s;
     residual(x, dg, r, s);
-    // Converged when f is at round-off of p_c^2 and r1 at round-off of its terms.
+    // Converged when f is at round-off of the current p_c^2 (which may be far from p_c,n^2 after
+    // a large step) and r1 at round-off of its terms.
     const auto converged = [&](double tol) {
-      return std::abs(r[1]) <= tol && std::abs(r[0]) <= tol * (std::abs(x) + dg * (2.0 * s.p + s.pc)) + 1e-300;
+      return std::abs(r[1]) * scale2 <= tol * s.pc * s.pc &&
+             std::abs(r[0]) <= tol * (std::abs(x) + dg * (2.0 * s.p + s.pc)) + 1e-300;
     };
     for (int it = 0; it < 60; ++it) {
       if (converged(1e-14)) break;

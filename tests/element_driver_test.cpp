@@ -117,6 +117,65 @@ TEST(ElementDriver, PlaneStrainCompressionPeakIsMohrCoulomb) {
   }
 }
 
+// Triaxial extension: the axial stress falls below the held cell pressure until Mohr-Coulomb's
+// extension strength, sigma_c = sigma_a N_phi + 2 c sqrt(N_phi) with sigma_c the cell pressure
+// (the major principal stress), i.e. q = sigma_c (1 - 1/N_phi) + 2 c / sqrt(N_phi), or its tension
+// cut-off, whichever comes first.
+TEST(ElementDriver, TriaxialExtensionPeakIsMohrCoulomb) {
+  const double phi = 30.5 * std::numbers::pi / 180.0, c = 8.5 * kPa;
+  const double N = (1.0 + std::sin(phi)) / (1.0 - std::sin(phi));
+  for (double p : {10 * kPa, 100 * kPa}) {
+    const auto rows = drive(read(compression_test("triaxial_extension", p)));
+    // At 10 kPa the tension cut-off (sigma_t = 0) comes first: the axial stress reaches zero, q = p.
+    const double peak = peak_deviator(rows), expected = std::min(p * (1.0 - 1.0 / N) + 2.0 * c / std::sqrt(N), p);
+    std::printf("extension p = %5.0f kPa: peak deviator %.6f kPa, closed form %.6f kPa\n", p / kPa, peak / kPa,
+                expected / kPa);
+    EXPECT_NEAR(peak / expected, 1.0, 1e-8) << "p = " << p;
+    for (const auto& r : rows) {
+      ASSERT_LT(std::abs(r.stress[0] + p), 1e-9 * p) << "sig_xx not held, increment " << r.increment;
+      ASSERT_LE(r.stress[1], 1e-9 * p) << "the axial stress stays compressive, increment " << r.increment;
+    }
+    EXPECT_NEAR(rows.back().strain[1], 0.15, 1e-14);  // lengthened
+    EXPECT_GT(rows.back().stress[1], -p);              // unloaded axially
+  }
+}
+
+// Undrained (volume held) compression of an elastic point: p stays at its start and q = 3 G eps_a
+// in the triaxial test; in plane strain, the mean of the in-plane stresses stays put and
+// sig_yy - sig_xx = 4 G eps_a.
+TEST(ElementDriver, UndrainedElasticPathsKeepTheVolumeAndTheMeanStress) {
+  const double E = 1.0e7, nu = 0.3, G = E / (2.0 * (1.0 + nu)), p0 = 50 * kPa, ea = 0.002;
+  for (const char* type : {"triaxial_compression", "triaxial_extension", "plane_strain_compression"}) {
+    const auto rows = drive(read(kElastic + fmt::format(R"(
+[test]
+type = "{}"
+drainage = "undrained"
+confining_pressure = {}
+axial_strain = {}
+increments = 10
+)",
+                                                       type, p0, ea)));
+    const ElementRow& end = rows.back();
+    EXPECT_NEAR(end.eps_v(), 0.0, 1e-15) << type;
+    EXPECT_NEAR(end.p() / p0, 1.0, 1e-12) << type;
+    const bool plane = std::string(type) == "plane_strain_compression";
+    const double expected = plane ? 4.0 * G * ea : 3.0 * G * ea;
+    EXPECT_NEAR(std::abs(end.stress[1] - end.stress[0]) / expected, 1.0, 1e-12) << type;
+  }
+}
+
+// The model's own state fields reach the row (none for Mohr-Coulomb beyond the fixed columns).
+TEST(ElementDriver, RowsCarryEveryStateFieldOfTheModel) {
+  const auto rows = drive(read(compression_test("triaxial_compression", 50 * kPa)));
+  const ElementRow& end = rows.back();
+  ASSERT_EQ(end.state.size(), MohrCoulomb::state_fields.size());
+  EXPECT_EQ(end.state_value(field_name::plastic_shear_strain), end.plastic_shear_strain);
+  EXPECT_EQ(end.state_value(field_name::cohesion_factor), 1.0);
+  EXPECT_TRUE(std::isnan(end.state_value("no_such_field")));
+  EXPECT_EQ(element::csv_columns(read(kSoil + "[test]\ntype = \"simple_shear\"\nshear_strain = 0.1\n").material),
+            element::csv_columns());
+}
+
 // The general segment form of a triaxial test is the preset, row for row.
 TEST(ElementDriver, GeneralFormReproducesThePreset) {
   const auto preset = drive(read(compression_test("triaxial_compression", 50 * kPa)));

@@ -1,6 +1,7 @@
 #include "tsuchi/element/element_driver.hpp"
 
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/core/principal_frame.hpp"
 
 #include <Eigen/LU>
 #include <fmt/format.h>
@@ -75,12 +76,18 @@ class Driver {
   using PointState = element::PointState<Model>;
 
  public:
-  Driver(const Model& model, const LinearElastic& elastic, const IterationSettings& settings)
-      : model_(model), C_(elastic_stiffness(elastic)), M_(elastic.constrained_modulus()), settings_(settings) {}
+  // `start`: the point at the path's initial stress, its state started (material.hpp start_state);
+  // its moduli give the first guesses and the fallback tangent of the stress control.
+  Driver(const Model& model, const PointState& start, const IterationSettings& settings)
+      : model_(model), start_(start), settings_(settings) {
+    PointState s = start;
+    const LinearElastic elastic = model.stiffness(s.state.ref());
+    C_ = elastic_stiffness(elastic);
+    M_ = elastic.constrained_modulus();
+  }
 
   void run(const ElementPath& path, const std::function<void(const ElementRow&)>& on_row) const {
-    PointState state;
-    state.stress = path.initial_stress;
+    PointState state = start_;
     Voigt<3> strain = Voigt<3>::Zero();
     long increment = 0;
     on_row(row(increment, 0, strain, state));
@@ -131,6 +138,8 @@ class Driver {
     r.mode = static_cast<YieldMode>(static_cast<int>(s.state.field(field_name::yield_mode)));
     r.plastic_shear_strain = s.state.field(field_name::plastic_shear_strain);
     r.plastic_volumetric_strain = s.state.field(field_name::plastic_volumetric_strain);
+    r.state.reserve(Model::state_fields.size());
+    for (const StateField& f : Model::state_fields) r.state.emplace_back(f.name, s.state.field(f.name));
     return r;
   }
 
@@ -237,6 +246,7 @@ class Driver {
   }
 
   const Model& model_;
+  PointState start_;
   Stiffness C_;
   double M_;
   IterationSettings settings_;
@@ -249,8 +259,10 @@ void drive_element(const Material& material, const ElementPath& path, const Iter
   std::visit(
       [&](const auto& model) {
         using M = std::decay_t<decltype(model)>;
-        PointStateOf<M> start;
-        Driver<M>(model, model.stiffness(start.ref()), settings).run(path, on_row);
+        PointState<M> start;
+        start.stress = path.initial_stress;
+        start_state(model, PrincipalFrame<3>(path.initial_stress).values, start.state.ref());
+        Driver<M>(model, start, settings).run(path, on_row);
       },
       material.model);
 }

@@ -9,6 +9,10 @@
 #include "tsuchi/material/mohr_coulomb.hpp"
 
 #include <cmath>
+#include <limits>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 namespace tsuchi::element {
 
@@ -22,6 +26,16 @@ struct ElementRow {
   // plastic volumetric strain, dilation positive.
   double plastic_shear_strain = 0.0;
   double plastic_volumetric_strain = 0.0;
+  // Every state field of the tested model (material/state_field.hpp), in the model's order: a
+  // preconsolidation pressure, a specific volume, a softening parameter.
+  std::vector<std::pair<std::string_view, double>> state;
+
+  // The state field named `name`, NaN when the model has none.
+  double state_value(std::string_view name) const {
+    for (const auto& [n, v] : state)
+      if (n == name) return v;
+    return std::numeric_limits<double>::quiet_NaN();
+  }
 
   // Mean stress, compression positive.
   double p() const { return 0.0 - trace<3>(stress) / 3.0; }

@@ -60,25 +60,41 @@ double read_axial_strain(Section& s) {
                   [](double v) { return v > 0.0 && v < 1.0; });
 }
 
-ElementPath triaxial(Section& s, bool plane_strain) {
+// Triaxial compression or extension, or plane-strain compression, from an isotropic state, with
+// the axial (y) strain driven. Drained: the cell pressure is held on the sides. Undrained: the
+// volume is held (no pore water flows and water and grains are taken as incompressible), so the
+// lateral strains are driven too; the stresses are then effective stresses.
+ElementPath triaxial(Section& s, bool plane_strain, bool extension) {
   const double p = read_pressure(s, "confining_pressure");
   const double ea = read_axial_strain(s);
+  const bool undrained = s.choice("drainage", {"drained", "undrained"}, 0) == 1;
   const int n = read_increments(s, 100);
   ElementPath path;
   path.initial_stress = isotropic(-p);
   Segment seg = preset_segment(n);
-  drive(seg, YY, -ea);
-  hold(seg, XX);
-  if (plane_strain) drive(seg, ZZ, 0.0);
-  else hold(seg, ZZ);
+  const double eyy = extension ? ea : -ea;  // tension positive: compression shortens y
+  drive(seg, YY, eyy);
+  if (undrained) {
+    drive(seg, XX, plane_strain ? -eyy : -eyy / 2.0);
+    drive(seg, ZZ, plane_strain ? 0.0 : -eyy / 2.0);
+  } else {
+    hold(seg, XX);
+    if (plane_strain) drive(seg, ZZ, 0.0);
+    else hold(seg, ZZ);
+  }
   path.segments.push_back(seg);
-  path.kind = plane_strain ? "plane_strain_compression" : "triaxial_compression";
-  path.description =
-      plane_strain
-          ? fmt::format("plane-strain compression: sig_xx held at {:g} Pa, eps_zz = 0, eps_yy to {:g} in {} increments",
-                        -p, -ea, n)
-          : fmt::format("drained triaxial compression: sig_xx = sig_zz held at {:g} Pa, eps_yy to {:g} in {} increments",
-                        -p, -ea, n);
+  path.kind = plane_strain ? "plane_strain_compression" : extension ? "triaxial_extension" : "triaxial_compression";
+  const char* test = plane_strain ? "plane-strain compression" : extension ? "triaxial extension" : "triaxial compression";
+  if (undrained)
+    path.description = fmt::format("undrained {}: from {:g} Pa isotropic, {} (volume held), eps_yy to {:g} in {} increments",
+                                   test, -p, plane_strain ? "eps_xx = -eps_yy, eps_zz = 0" : "eps_xx = eps_zz = -eps_yy/2",
+                                   eyy, n);
+  else if (plane_strain)
+    path.description = fmt::format(
+        "plane-strain compression: sig_xx held at {:g} Pa, eps_zz = 0, eps_yy to {:g} in {} increments", -p, eyy, n);
+  else
+    path.description = fmt::format("drained {}: sig_xx = sig_zz held at {:g} Pa, eps_yy to {:g} in {} increments", test,
+                                   -p, eyy, n);
   return path;
 }
 
@@ -226,6 +242,7 @@ void check_inside_yield_surface(const Material& m, const Voigt<3>& sigma, Sectio
   const Inadmissible beyond = std::visit(
       [&](const auto& model) {
         PointStateOf<std::decay_t<decltype(model)>> start;  // a point that starts: every field at its initial value
+        start_state(model, v, start.ref());                  // and what depends on the starting stress
         return model.outside(v, start.ref());
       },
       m.model);
@@ -252,7 +269,7 @@ const Material& select_material(Section& test, const std::vector<Material>& mate
 }
 
 const std::vector<std::string> kTypes{"triaxial_compression", "plane_strain_compression", "simple_shear",
-                                      "isotropic_compression", "general"};
+                                      "isotropic_compression", "general", "triaxial_extension"};
 
 }  // namespace
 
@@ -281,7 +298,8 @@ ElementInput read_element_string(const std::string& text, const std::string& fil
   switch (type) {
     case 0:
     case 1:
-      in.path = triaxial(test, type == 1);
+    case 5:
+      in.path = triaxial(test, type == 1, type == 5);
       stress_key = "confining_pressure";
       break;
     case 2:
@@ -292,7 +310,7 @@ ElementInput read_element_string(const std::string& text, const std::string& fil
       in.path = isotropic_compression(test);
       stress_key = "initial_pressure";
       break;
-    default:
+    case 4:
       in.path = general(test);
       stress_key = "initial_stress";
       break;

@@ -14,8 +14,11 @@
 //   Inadmissible outside(const Eigen::Vector3d& principal, StateRef) const;  starting-stress check
 //   std::string describe() const;     its parameters after the moduli, starting ", " (tsuchi element)
 // optionally k0_hint (a string_view added to a refused K0 profile), imperfection_limit() (why
-// an imperfection cannot apply) and bool released(StateRef) (the last update released the point
+// an imperfection cannot apply), bool released(StateRef) (the last update released the point
 // in tension: its expansion is an opening between particles, solver.hold_released_volume),
+//   void start(const Eigen::Vector3d& principal, StateRef) const;   state that depends on the
+//                                     stress a point starts from (an OCR's preconsolidation
+//                                     pressure), called once per point before outside(),
 // static constexpr bool reads_own_elasticity (the material reader then reads no moduli and passes
 // a default LinearElastic: the model's reader reads its own), and
 // with a reader of its input parameters beside it, in namespace tsuchi,
@@ -96,6 +99,14 @@ class PointStateOf {
   std::array<double, N> value_{};
   std::array<double*, N> column_{};
 };
+
+// A point's state at the stress it starts from (principal values, ascending): every field holds
+// its initial value (or a value read from a particle file); the model's optional start hook then
+// sets what depends on the starting stress. Called once per point, before the check outside().
+template <class M>
+void start_state(const M& model, const Eigen::Vector3d& principal, StateRef s) {
+  if constexpr (requires { model.start(principal, s); }) model.start(principal, s);
+}
 
 // Whether the model of `m` has a state field named `name`.
 bool has_state_field(const Material& m, std::string_view name);

@@ -107,17 +107,22 @@ void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m
                            t[1] == t[2] && t[3] == 0.0 && t[4] == 0.0 && t[5] == 0.0 && !file_stress;
     m.rotate_initial_stress = m.rotate_initial_stress || !isotropic;
   }
-  if (b.initial_stress.kind == InitialStressConfig::Kind::None && !file_stress) return;
-  // Each particle against its own material (a region may give it another one than the body's).
+  const bool check = b.initial_stress.kind != InitialStressConfig::Kind::None || file_stress;
+  // Each particle against its own material (a region may give it another one than the body's):
+  // the state that depends on the starting stress, then the check that the start is admissible.
   for (std::size_t k = 0; k < c.materials.size(); ++k) {
     const Material& mat = c.materials[k];
     std::visit(
         [&](const auto& model) {
           using M = std::decay_t<decltype(model)>;
+          constexpr bool starts = requires(const Eigen::Vector3d& v, StateRef r) { model.start(v, r); };
+          if (!starts && !check) return;
           const auto cols = state_columns<M>(p);
           for (std::size_t q = start; q < p.size(); ++q) {
             if (static_cast<std::size_t>(p.material_p[q]) != k) continue;
             const Eigen::Vector3d v = PrincipalFrame<D>(p.sigma_p[q]).values;
+            start_state(model, v, StateRef{cols.data(), q});
+            if (!check) continue;
             const Inadmissible beyond = model.outside(v, StateRef{cols.data(), q});
             if (!beyond.any()) continue;
             std::string hint;

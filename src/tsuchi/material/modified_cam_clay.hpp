@@ -176,6 +176,10 @@ struct ModifiedCamClay {
     return {};
   }
 
+  // A K0 profile outside the ellipse of a given p_c: an OCR sets p_c from each point's own stress.
+  static constexpr std::string_view k0_hint =
+      "a given preconsolidation_pressure must exceed p + q^2 / (M^2 p) at every depth; 'ocr' sets p_c per point";
+
   std::string describe() const {
     std::string r = fmt::format(", lambda = {:.6g}, kappa = {:.6g}, M = {:.6g}, v0 = {:.6g}, ", lambda, kappa, M, v0);
     r += pc0 > 0.0 ? fmt::format("p_c = {:.6g} Pa", pc0) : fmt::format("OCR = {:.6g}", ocr);

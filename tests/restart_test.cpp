@@ -164,6 +164,52 @@ TEST(Restart, MohrCoulombTriaxialContinuesBitwise) {
   EXPECT_NE(rec.find(",1500,"), std::string::npos) << "the restarted run reaches step 1500";
 }
 
+// Modified Cam-Clay's state (p_c, v, the stiffness of the time step) is in the checkpoint: a
+// block squeezed undrained from 200 kPa, split while it yields, continues bitwise.
+TEST(Restart, ModifiedCamClayContinuesBitwise) {
+  TempDir tmp("tsuchi_restart");
+  write_file(tmp.path / "clay.toml", R"([model]
+dimension = 2
+
+[grid]
+extent = [0.2, 0.2]
+cell_size = 0.05
+
+[[materials]]
+name = "clay"
+model = "modified_cam_clay"
+density = 1800.0
+lambda = 0.2
+kappa = 0.04
+critical_state_slope = 1.2
+initial_void_ratio = 1.0
+ocr = 1.0
+poisson_ratio = 0.3
+
+[[bodies]]
+name = "specimen"
+material = "clay"
+min = [0.05, 0.05]
+max = [0.15, 0.15]
+particles_per_cell = 2
+prescribed_velocity = { x = 0.0, y = 0.0 }
+prescribed_velocity_gradient = { x = [0.1, 0.0], y = [0.0, -0.1] }
+
+[bodies.initial_stress]
+isotropic = -200.0e3
+subtract = true
+
+[time]
+end = 10.0
+courant = 0.5
+
+[output]
+interval = 0.02
+fields = ["stress", "preconsolidation_pressure", "specific_volume", "bulk_modulus", "yield_mode"]
+)");
+  expect_bitwise_restart({(tmp.path / "clay.toml").string(), {}}, tmp, 211, 500);
+}
+
 // Frames labelled and scheduled by a recorder (output.frame_label, output.label_interval): the
 // next label frame is part of the checkpoint, so a restart writes the same frames and .pvd.
 TEST(Restart, FramesByRecorderContinueBitwise) {
@@ -279,7 +325,7 @@ TEST(Checkpoint, RoundTripsEveryParticleArray) {
         }
     });
   });
-  // 13 particle arrays, then one per state field of the registered models.
+  // 13 kinematic and stress arrays, and one column per state field of the registered models.
   EXPECT_EQ(arrays, 13u + material_state_fields().size());
 }
 

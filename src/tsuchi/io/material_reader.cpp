@@ -28,6 +28,18 @@ LinearElastic read_elastic(Section& s, std::vector<std::string>* warnings) {
   return has_E ? LinearElastic::from_young(modulus, nu) : LinearElastic::from_shear(modulus, nu);
 }
 
+// Whether the n-th registered model reads its own elasticity (a pressure-dependent one does).
+template <std::size_t I = 0>
+bool reads_own_elasticity(std::size_t n) {
+  using M = std::variant_alternative_t<I, ConstitutiveModel>;
+  if (n == I) {
+    if constexpr (requires { M::reads_own_elasticity; }) return M::reads_own_elasticity;
+    else return false;
+  }
+  if constexpr (I + 1 < std::variant_size_v<ConstitutiveModel>) return reads_own_elasticity<I + 1>(n);
+  else return false;
+}
+
 // The names of the registered models, in registration order, and the reader of the n-th.
 template <class... M>
 std::vector<std::string> model_names(std::variant<M...>*) {
@@ -54,7 +66,8 @@ Material read_material(Section& s, const std::vector<Material>& defined, std::ve
   const int model = s.choice("model", names, -1);
   if (model < 0) s.need("model", fmt::format("a constitutive model name ({})", quoted_list(names)));
   m.density = s.number("density", "a positive density in kg/m^3", positive);
-  const LinearElastic elastic = read_elastic(s, warnings);
+  const LinearElastic elastic =
+      reads_own_elasticity(static_cast<std::size_t>(model)) ? LinearElastic{} : read_elastic(s, warnings);
   m.model = read_model(static_cast<std::size_t>(model), s, elastic, warnings);
   s.finish();
   return m;

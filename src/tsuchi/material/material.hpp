@@ -22,7 +22,10 @@
 //   M with_cell_size(double h) const; the model for a grid of cell size h, called once where a
 //                                     run builds its materials (a strength that depends on the
 //                                     mesh, like a softening regularised by a band width; the
-//                                     element driver has no grid and uses the model as read), and
+//                                     element driver has no grid and uses the model as read),
+//   static constexpr bool reads_own_elasticity;   true: the material reader reads no moduli and
+//                                     passes a default LinearElastic (the model's reader reads its own),
+// and
 // with a reader of its input parameters beside it, in namespace tsuchi,
 //   template <class Table, class Warn> M read_model_parameters(Table&, const LinearElastic& moduli,
 //                                                              Warn&& warn, std::type_identity<M>);
@@ -32,6 +35,8 @@
 #include "tsuchi/material/drucker_prager.hpp"
 #include "tsuchi/material/drucker_prager_input.hpp"
 #include "tsuchi/material/linear_elastic.hpp"
+#include "tsuchi/material/modified_cam_clay.hpp"
+#include "tsuchi/material/modified_cam_clay_input.hpp"
 #include "tsuchi/material/mohr_coulomb.hpp"
 #include "tsuchi/material/mohr_coulomb_input.hpp"
 #include "tsuchi/material/mohr_coulomb_softening.hpp"
@@ -47,7 +52,7 @@
 namespace tsuchi {
 
 // The registration: every constitutive model the program knows.
-using ConstitutiveModel = std::variant<LinearElastic, MohrCoulomb, DruckerPrager, MohrCoulombSoftening>;
+using ConstitutiveModel = std::variant<LinearElastic, MohrCoulomb, DruckerPrager, ModifiedCamClay, MohrCoulombSoftening>;
 
 struct Material {
   std::string name;

@@ -339,6 +339,10 @@ std::string describe_material(const Material& m) {
   return std::visit(
       [&](const auto& model) {
         using M = std::decay_t<decltype(model)>;
+        // A model with its own elasticity (moduli that follow the stress) describes it itself.
+        if constexpr (requires { M::reads_own_elasticity; })
+          if (M::reads_own_elasticity)
+            return fmt::format("\"{}\": {}, density {:g} kg/m^3{}", m.name, M::name, m.density, model.describe());
         PointStateOf<M> start;
         const LinearElastic& e = model.stiffness(start.ref());
         const double nu = (3.0 * e.K - 2.0 * e.G) / (2.0 * (3.0 * e.K + e.G));

@@ -185,7 +185,7 @@ struct ModifiedCamClay {
     r += pc0 > 0.0 ? fmt::format("p_c = {:.6g} Pa", pc0) : fmt::format("OCR = {:.6g}", ocr);
     r += shear_modulus > 0.0 ? fmt::format(", constant G = {:.6g} Pa", shear_modulus)
                              : fmt::format(", nu = {:.6g} (G from K)", poisson);
-    return r + fmt::format(", minimum pressure {:.6g} Pa (the G above is that of a point at this pressure)", p_min);
+    return r + fmt::format(", K = v max(p, {:.6g} Pa) / kappa", p_min);
   }
 };
 

@@ -472,7 +472,14 @@ void read_output(Section& s, Config& c) {
       o.fields.push_back(str->get());
     }
   } else {
-    o.fields = frame_field_names();
+    // Every frame field, but a model's state only where some material of the run has that model:
+    // a Mohr-Coulomb run's frames carry no preconsolidation pressure.
+    for (const std::string& name : frame_field_names()) {
+      const ParticleField* f = find_particle_field(name);
+      const bool used = f->state < 0 || std::any_of(c.materials.begin(), c.materials.end(),
+                                                     [&](const Material& m) { return has_state_field(m, name); });
+      if (used) o.fields.push_back(name);
+    }
   }
   s.finish();
 }

@@ -332,38 +332,7 @@ TEST(ModifiedCamClay, ElementExamplesReachTheirClosedForms) {
 // velocities vx = +r x, vy = -r y) from an isotropic 200 kPa held by eq (2) follows the element
 // driver's undrained plane-strain curve (eps_xx = -eps_yy, eps_zz = 0).
 TEST(ModifiedCamClay, UndrainedBlockThroughTheSolverFollowsTheElementDriver) {
-  const std::string text = R"([model]
-dimension = 2
-
-[grid]
-origin = [0.0, 0.0]
-extent = [0.2, 0.2]
-cell_size = 0.05
-
-[[materials]]
-name = "clay"
-model = "modified_cam_clay"
-density = 1800.0
-lambda = 0.2
-kappa = 0.04
-critical_state_slope = 1.2
-initial_void_ratio = 1.0
-ocr = 1.0
-poisson_ratio = 0.3
-
-[[bodies]]
-name = "specimen"
-material = "clay"
-min = [0.05, 0.05]
-max = [0.15, 0.15]
-particles_per_cell = 2
-prescribed_velocity = { x = 0.0, y = 0.0 }
-prescribed_velocity_gradient = { x = [0.1, 0.0], y = [0.0, -0.1] }
-
-[bodies.initial_stress]
-isotropic = -200.0e3
-subtract = true
-
+  const std::string text = test::kCamClayUndrainedBlock + R"(
 [time]
 end = 0.5
 courant = 0.5

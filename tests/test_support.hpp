@@ -104,4 +104,41 @@ inline std::string quoted(const fs::path& p) {
   return r;
 }
 
+// A normally consolidated Modified Cam-Clay block (lambda 0.2, kappa 0.04, M 1.2, e0 1, nu 0.3), 2 x 2
+// cells of 5 cm, squeezed at constant volume (vx = +0.1 x, vy = -0.1 y) from an isotropic 200 kPa
+// held by eq (2): the [model], [grid], [[materials]] and [[bodies]] of a run; [time] and
+// [output] are the test's.
+inline const std::string kCamClayUndrainedBlock = R"([model]
+dimension = 2
+
+[grid]
+origin = [0.0, 0.0]
+extent = [0.2, 0.2]
+cell_size = 0.05
+
+[[materials]]
+name = "clay"
+model = "modified_cam_clay"
+density = 1800.0
+lambda = 0.2
+kappa = 0.04
+critical_state_slope = 1.2
+initial_void_ratio = 1.0
+ocr = 1.0
+poisson_ratio = 0.3
+
+[[bodies]]
+name = "specimen"
+material = "clay"
+min = [0.05, 0.05]
+max = [0.15, 0.15]
+particles_per_cell = 2
+prescribed_velocity = { x = 0.0, y = 0.0 }
+prescribed_velocity_gradient = { x = [0.1, 0.0], y = [0.0, -0.1] }
+
+[bodies.initial_stress]
+isotropic = -200.0e3
+subtract = true
+)";
+
 }  // namespace tsuchi::test

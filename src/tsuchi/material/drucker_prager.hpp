@@ -173,10 +173,7 @@ struct DruckerPrager {
 
   // Why an imperfection of this amplitude cannot apply, or "".
   std::string imperfection_limit(double amplitude, bool /*cohesion*/, bool friction) const {
-    constexpr double deg = 180.0 / std::numbers::pi;
-    if (friction && phi * (1.0 + amplitude) * deg >= 90.0)
-      return fmt::format("friction angle {} degrees times (1 + {}) reaches 90 degrees", phi * deg, amplitude);
-    return {};
+    return friction ? friction_scale_limit(phi, amplitude) : std::string{};
   }
 
   std::string describe() const {

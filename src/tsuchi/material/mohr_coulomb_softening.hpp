@@ -108,11 +108,8 @@ struct MohrCoulombSoftening {
   static constexpr std::string_view k0_hint = MohrCoulomb::k0_hint;
 
   std::string imperfection_limit(double amplitude, bool /*cohesion*/, bool friction) const {
-    constexpr double deg = 180.0 / std::numbers::pi;
-    if (friction && phi.max_value() * (1.0 + amplitude) * deg >= 90.0)
-      return fmt::format("largest friction angle of the table {} degrees times (1 + {}) reaches 90 degrees",
-                         phi.max_value() * deg, amplitude);
-    return {};
+    return friction ? friction_scale_limit(phi.max_value(), amplitude, "largest friction angle of the table")
+                    : std::string{};
   }
 
   std::string describe() const {

@@ -47,16 +47,13 @@ inline constexpr std::array<const char*, 3> cone_match_names{"compression", "ext
 
 struct DruckerPrager {
   static constexpr std::string_view name = "drucker_prager";
-  // The state of a point, the fields Mohr-Coulomb has and with the same meaning (so an
+  // The state of a point: Mohr-Coulomb's fields, with the same meaning and order (so an
   // imperfection scales c and phi of a point, and the element CSV shows the plastic strains).
-  enum StateIndex : std::size_t { kMode, kPlasticShear, kPlasticVolume, kCohesionFactor, kFrictionFactor };
-  static constexpr std::array<StateField, 5> state_fields{{
-      {field_name::yield_mode, "", 0.0, true, "yielded", "surface the stress ended on in the last step: 0 elastic, 1 shear, 2 tension"},
-      {field_name::plastic_shear_strain, "", 0.0, false, "", "accumulated eps1_p - eps3_p of the plastic strain increments"},
-      {field_name::plastic_volumetric_strain, "", 0.0, false, "", "accumulated plastic volumetric strain, dilation positive"},
-      {field_name::cohesion_factor, "", 1.0, false, "", "c of the point / c of the material: 1 + d of the imperfection"},
-      {field_name::friction_factor, "", 1.0, false, "", "phi of the point / phi of the material: 1 + d of the imperfection"},
-  }};
+  static constexpr std::size_t kMode = MohrCoulomb::kMode, kPlasticShear = MohrCoulomb::kPlasticShear,
+                               kPlasticVolume = MohrCoulomb::kPlasticVolume,
+                               kCohesionFactor = MohrCoulomb::kCohesionFactor,
+                               kFrictionFactor = MohrCoulomb::kFrictionFactor;
+  static constexpr auto state_fields = MohrCoulomb::state_fields;
 
   LinearElastic elastic;
   double cohesion = 0.0;  // c (Pa)

@@ -15,8 +15,15 @@
 
 namespace tsuchi {
 
+// c, phi and psi of a Mohr-Coulomb-type strength (angles read in degrees, returned in radians),
+// and the tension strength capped at the apex c / tan(phi) (eq 29): the keys Mohr-Coulomb and
+// Drucker-Prager share.
+struct CohesionFriction {
+  double cohesion, phi, psi, tension;
+};
+
 template <class Table, class Warn>
-MohrCoulomb read_model_parameters(Table& s, const LinearElastic& elastic, Warn&& warn, std::type_identity<MohrCoulomb>) {
+CohesionFriction read_cohesion_friction(Table& s, Warn&& warn) {
   constexpr double rad = std::numbers::pi / 180.0;
   // An angle below 1 degree was most likely given in radians.
   const auto check_angle = [&](std::string_view key, double degrees) {
@@ -25,9 +32,8 @@ MohrCoulomb read_model_parameters(Table& s, const LinearElastic& elastic, Warn&&
                             degrees, degrees, degrees * 180.0 / std::numbers::pi));
   };
   const auto non_negative = [](double v) { return v >= 0.0; };
-  MohrCoulomb m;
-  m.elastic = elastic;
-  m.cohesion = s.number("cohesion", "a cohesion >= 0 in Pa", non_negative);
+  CohesionFriction r;
+  r.cohesion = s.number("cohesion", "a cohesion >= 0 in Pa", non_negative);
   const double phi = s.number("friction_angle", "a friction angle in degrees, in (0, 90)",
                               [](double v) { return v > 0.0 && v < 90.0; });
   const double psi = s.number("dilatancy_angle", "a dilatancy angle in degrees, in [0, friction_angle]",
@@ -37,11 +43,23 @@ MohrCoulomb read_model_parameters(Table& s, const LinearElastic& elastic, Warn&&
   if (psi > phi)
     s.fail("dilatancy_angle",
            fmt::format("expected a dilatancy angle no larger than the friction angle ({} degrees), got {}", phi, psi));
-  m.phi = phi * rad;
-  m.psi = psi * rad;
+  r.phi = phi * rad;
+  r.psi = psi * rad;
   // Above the apex c / tan(phi) a tension strength has no meaning; (29) caps it there.
-  m.tension = s.number("tension_strength", "a tension strength >= 0 in Pa", non_negative, 0.0);
-  m.tension = std::min(m.tension, m.cohesion / std::tan(m.phi));
+  r.tension = s.number("tension_strength", "a tension strength >= 0 in Pa", non_negative, 0.0);
+  r.tension = std::min(r.tension, r.cohesion / std::tan(r.phi));
+  return r;
+}
+
+template <class Table, class Warn>
+MohrCoulomb read_model_parameters(Table& s, const LinearElastic& elastic, Warn&& warn, std::type_identity<MohrCoulomb>) {
+  const CohesionFriction cf = read_cohesion_friction(s, warn);
+  MohrCoulomb m;
+  m.elastic = elastic;
+  m.cohesion = cf.cohesion;
+  m.phi = cf.phi;
+  m.psi = cf.psi;
+  m.tension = cf.tension;
   m.tension_rule = static_cast<TensionRule>(s.choice("tension_rule", {"flac", "paper"}, 0));
   // Each rule goes with its own selection unless told otherwise.
   const int rule = static_cast<int>(m.tension_rule);

@@ -22,6 +22,7 @@ TimeFunction TimeFunction::formula(std::shared_ptr<const Expression> of_time) {
 }
 
 double TimeFunction::operator()(double t) const {
+  t -= start_;
   switch (kind_) {
     case Kind::One: return 1.0;
     case Kind::Formula: return f_->at_time(t);
@@ -37,6 +38,10 @@ double TimeFunction::operator()(double t) const {
 double TimeFunction::integral(double a, double b) const {
   if (b == a) return 0.0;
   if (b < a) return -integral(b, a);
+  if (start_ != 0.0) {
+    a = std::max(a, start_) - start_, b = std::max(b, start_) - start_;
+    if (b == a) return 0.0;
+  }
   switch (kind_) {
     case Kind::One: return b - a;
     case Kind::Formula: {
@@ -62,7 +67,7 @@ double TimeFunction::integral(double a, double b) const {
   auto k = static_cast<std::size_t>(std::upper_bound(t_.begin(), t_.end(), a) - t_.begin());
   while (lo < b) {
     const double hi = k < t_.size() ? std::min(b, t_[k]) : b;
-    sum += 0.5 * (hi - lo) * ((*this)(lo) + (*this)(hi));
+    sum += 0.5 * (hi - lo) * ((*this)(lo + start_) + (*this)(hi + start_));  // a and b are on f's own clock here
     lo = hi;
     ++k;
   }

@@ -18,6 +18,15 @@ class TimeFunction {
   static TimeFunction table(std::vector<double> times, std::vector<double> values);
   static TimeFunction formula(std::shared_ptr<const Expression> of_time);
 
+  // The function started at t0 instead of 0: g(t) = f(t - t0), the clock of a load that a stage
+  // sets (docs/stages.md); before t0 its integral is zero (the load did not act yet).
+  TimeFunction starting_at(double t0) const {
+    TimeFunction g = *this;
+    g.start_ = t0;
+    return g;
+  }
+  double start() const { return start_; }
+
   bool is_one() const { return kind_ == Kind::One; }
   double operator()(double t) const;
   // The integral of f over [a, b]: exact for a table (trapezoids between its points, so that a
@@ -31,6 +40,7 @@ class TimeFunction {
   Kind kind_ = Kind::One;
   std::vector<double> t_, v_;
   std::shared_ptr<const Expression> f_;
+  double start_ = 0.0;
 };
 
 }  // namespace tsuchi

@@ -1,4 +1,6 @@
 #include "tsuchi/io/config_reader.hpp"
+
+#include "tsuchi/io/stage_reader.hpp"
 #include "tsuchi/io/csv_table.hpp"
 
 #include "tsuchi/core/errors.hpp"
@@ -435,9 +437,17 @@ void read_solver(Section& s, Config& c) {
   s.finish();
 }
 
-void read_time(Section& s, Config& c) {
+void read_time(Section& s, Config& c, bool staged) {
   auto& t = c.time;
-  t.end = s.number("end", "a positive time in s", positive);
+  if (staged) {
+    // Each stage ends by its own end; the run ends with the last stage.
+    if (s.has("end"))
+      s.fail("end", "a staged run ends with its last stage: give each [[stages]] its end (duration, steps, "
+                    "unbalanced_force_ratio, kinetic_energy_ratio or recorder) instead of time.end");
+    t.end = std::numeric_limits<double>::infinity();
+  } else {
+    t.end = s.number("end", "a positive time in s", positive);
+  }
   t.courant = s.optional_number("courant", "a Courant number in (0, 1]", [](double x) { return x > 0 && x <= 1; });
   t.dt = s.optional_number("dt", "a positive time step in s", positive);
   if (t.courant && t.dt) s.fail("dt", "give either 'courant' or 'dt', not both");
@@ -582,6 +592,7 @@ std::uint64_t fingerprint(const toml::table& root) {
   toml::table t = root;
   t.erase("output");
   t.erase("checkpoint");
+  t.erase("fos");  // the factor of safety's search: trials start from the run's state, not part of it
   if (auto* m = t.get_as<toml::table>("model")) m->erase("title");
   if (auto* time = t.get_as<toml::table>("time")) {
     for (const char* k : {"end", "max_steps", "dt", "courant"}) time->erase(k);
@@ -706,7 +717,7 @@ void read_recorder(Section& s, Config& c) {
   c.recorders.push_back(r);
 }
 
-Config read_document(const toml::table& root, const std::string& file) {
+Config read_document(const toml::table& root, const std::string& file, bool staged) {
   Config c;
   c.source = file;
   Section top(root, "", file);
@@ -753,10 +764,11 @@ Config read_document(const toml::table& root, const std::string& file) {
     Section s(*t, "solver", file);
     read_solver(s, c);
   }
+  toml::table no_time;
   const toml::table* time = top.table("time");
-  if (!time) top.need("time", "a [time] table with 'end'");
-  Section ts(*time, "time", file);
-  read_time(ts, c);
+  if (!time && !staged) top.need("time", "a [time] table with 'end'");
+  Section ts(time ? *time : no_time, "time", file);
+  read_time(ts, c, staged);
 
   toml::table no_output;
   const toml::table* out = top.table("output");
@@ -788,9 +800,61 @@ Config read_document(const toml::table& root, const std::string& file) {
                                          it->name, it->quantity));
     c.output.frame_label_recorder = static_cast<int>(it - c.recorders.begin());
   }
+  // Read with the stages, by read_staged (it names a stage).
+  top.get("fos");
   top.finish();
   c.fingerprint = fingerprint(root);
   for (const std::uint64_t d : c.file_digests) c.fingerprint = (c.fingerprint ^ d) * 1099511628211ull;
+  return c;
+}
+
+// The input, and for [[stages]] the input as it stands during each stage (io/stage_reader.hpp):
+// the returned Config is the first stage's, stages[k].config stage k's. The file is parsed again for
+// each stage so that every value keeps its place in the file for messages.
+Config read_input(const std::string& text, const std::string& file, const std::vector<std::string>& overrides) {
+  const toml::table root = io::parse_toml(text, file, overrides);
+  const std::size_t count = io::stage_count(root, file);
+  auto fos = [&](Config& c) {
+    if (const toml::table* t = root.get_as<toml::table>("fos")) {
+      Section s(*t, "fos", file);
+      io::read_fos(s, c);
+    }
+  };
+  if (count == 0) {
+    Config c = read_document(root, file, false);
+    fos(c);
+    return c;
+  }
+  std::vector<StageConfig> stages;
+  for (std::size_t k = 0; k < count; ++k) {
+    auto during = std::make_shared<Config>();
+    try {
+      *during = read_document(io::merge_stages(io::parse_toml(text, file, overrides), k, file), file, true);
+    } catch (const InputError& e) {
+      // Only a stage's change can make a later stage's input invalid: say which stage it is in.
+      if (k == 0) throw;
+      const auto* name = root.get_as<toml::array>("stages")->get(k)->as_table()->get_as<std::string>("name");
+      throw InputError(fmt::format("{} (in stage {}{}, with the changes of the stages up to it)", e.what(), k + 1,
+                                   name ? fmt::format(" \"{}\"", printable(name->get())) : std::string{}));
+    }
+    StageConfig st = io::read_stage(root, k, *during, file);
+    st.config = during;
+    stages.push_back(std::move(st));
+  }
+  Config c = *stages.front().config;
+  c.stages = std::move(stages);
+  c.fingerprint = fingerprint(root);
+  for (const std::uint64_t d : c.file_digests) c.fingerprint = (c.fingerprint ^ d) * 1099511628211ull;
+  io::check_stage_sequence(c, root);
+  fos(c);
+  for (auto& st : c.stages) {
+    // Each stage's input carries the run's identity and sequence, for whoever is handed one alone.
+    auto during = std::make_shared<Config>(*st.config);
+    during->fingerprint = c.fingerprint;
+    during->body_starts_dormant = c.body_starts_dormant;
+    during->fos = c.fos;
+    st.config = during;
+  }
   return c;
 }
 
@@ -798,11 +862,11 @@ Config read_document(const toml::table& root, const std::string& file) {
 
 Config read_config_string(const std::string& text, const std::string& source_name,
                           const std::vector<std::string>& overrides) {
-  return read_document(io::parse_toml(text, source_name, overrides), source_name);
+  return read_input(text, source_name, overrides);
 }
 
 Config read_config_file(const std::string& path, const std::vector<std::string>& overrides) {
-  return read_document(io::parse_toml(io::read_input_file(path), path, overrides), path);
+  return read_input(io::read_input_file(path), path, overrides);
 }
 
 }  // namespace tsuchi

@@ -259,6 +259,52 @@ struct RecorderConfig {
   std::optional<double> stop_above, stop_below;
 };
 
+struct Config;
+
+// How a stage of a staged run ends (docs/stages.md): at the first of the ends it gives. A stage
+// with no duration or step count must give max_steps, so that it cannot run forever.
+struct StageEnd {
+  std::optional<double> duration;        // s after the stage's start
+  std::int64_t steps = 0;                // steps of the stage; 0: not by steps
+  // Equilibrium: the unbalanced-force ratio and/or the kinetic-energy ratio (kinetic energy over
+  // its largest value in the stage) below these, checked once any gravity ramp of the stage is over.
+  std::optional<double> unbalanced_force_ratio;
+  std::optional<double> kinetic_energy_ratio;
+  int recorder = -1;                     // index in Config::recorders: a stop bound for this stage
+  std::optional<double> above, below;
+  std::int64_t max_steps = 0;            // 0: none (then duration or steps is given)
+  bool equilibrium() const { return unbalanced_force_ratio || kinetic_energy_ratio; }
+};
+
+// A stage of [[stages]]: what changes at its start and how it ends. `config` is the whole input as
+// it stands during the stage (the file with the changes of this and every earlier stage merged in).
+struct StageConfig {
+  std::string name;
+  std::string where;                     // "FILE:LINE:COL" of the stage's table, for messages
+  StageEnd end;
+  std::vector<int> remove, add;          // bodies removed (excavation) / added (fill) at the start
+  bool reset_displacements = false;      // displacements and strains set to zero at the start
+  // Which parts of the input the stage changes: their functions of time start at the stage's start,
+  // and only they are rebuilt (an unchanged load keeps its particles and forces).
+  bool changes_gravity = false, changes_loads = false, changes_boundary = false;
+  bool changes_materials = false, changes_solver = false;
+  std::vector<int> changes_motion;       // bodies whose prescribed motion or material the stage sets
+  std::shared_ptr<const Config> config;
+};
+
+// [fos]: the factor of safety by strength reduction (`tsuchi fos`, run/factor_of_safety.hpp).
+struct FosConfig {
+  bool given = false;
+  int after_stage = -1;                  // index in Config::stages; -1: after the whole run (unstaged input)
+  bool reduce_dilatancy = false;         // psi by tan(psi) / F as well; else psi = min(psi, phi_F)
+  double lower = 1.0, upper = 2.0;       // the first bracket; the upper end grows until a trial fails
+  double tolerance = 0.01;               // stop when (upper - lower) / lower is below this
+  std::int64_t max_steps = 0;            // per trial: no equilibrium by then is a failure
+  double unbalanced_force_ratio = 1e-4;  // a trial is in equilibrium below this ratio
+  std::optional<double> displacement_limit;  // a trial fails once a particle moves more than this (m)
+  int trials_at_once = 2;                // trials per round (bisection for 1); the same on any thread count
+};
+
 struct Config {
   std::string source;  // file the configuration came from, for messages
   std::string title;
@@ -279,6 +325,13 @@ struct Config {
   std::vector<RecorderConfig> recorders;
   std::vector<LoadConfig> loads;
   std::vector<ContactConfig> contacts;
+  // [[stages]], in order; empty for a single-stage input. The Config itself is then the first
+  // stage's (stages[0].config holds the same).
+  std::vector<StageConfig> stages;
+  FosConfig fos;
+  // Bodies that a stage adds: absent until then (their particles wait in Model::dormant).
+  std::vector<bool> body_starts_dormant;
+  bool staged() const { return !stages.empty(); }
   // Hash of everything that decides the state of a run (not the end time, step limit, output,
   // checkpoint schedule, time step choice, stop bounds or title): a checkpoint restarts only a
   // configuration with the same fingerprint.

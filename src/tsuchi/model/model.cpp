@@ -7,6 +7,7 @@
 #include "tsuchi/model/material_state.hpp"
 #include "tsuchi/model/overburden.hpp"
 #include "tsuchi/model/particle_fields.hpp"
+#include "tsuchi/model/stage_change.hpp"
 #include "tsuchi/grid/block_schedule.hpp"
 
 #include <fmt/format.h>
@@ -383,6 +384,24 @@ void add_body(const Config& c, int body, const Placement<D>& pl, Model<D>& m) {
   m.body_volume.push_back(volume);
   set_initial_state(c, body, start, m);
 
+  const BodyMotion<D> motion = body_motion<D>(c, body);
+  // A prescribed component starts at its prescribed value (with APIC, and its gradient), at t = 0.
+  const bool apic = c.solver.velocity_transfer == VelocityTransfer::Apic;
+  const double f0 = motion.function(0.0);
+  for (std::size_t q = start; q < p.size(); ++q)
+    for (int d = 0; d < D; ++d)
+      if (motion.prescribed[d]) {
+        p.v_p[q][d] = f0 * motion.velocity(d, p.x_p[q]);
+        if (apic) p.C_p[q].row(d) = f0 * motion.grad.row(d);
+      }
+  m.motion.push_back(motion);
+}
+
+}  // namespace
+
+template <int D>
+BodyMotion<D> body_motion(const Config& c, int body) {
+  const BodyConfig& b = c.bodies[static_cast<std::size_t>(body)];
   BodyMotion<D> motion;
   for (int d = 0; d < D; ++d) {
     motion.prescribed[d] = b.prescribed[d];
@@ -401,19 +420,8 @@ void add_body(const Config& c, int body, const Placement<D>& pl, Model<D>& m) {
   }
   if (b.prescribed_velocity_function >= 0)
     motion.function = c.functions[static_cast<std::size_t>(b.prescribed_velocity_function)].f;
-  // A prescribed component starts at its prescribed value (with APIC, and its gradient), at t = 0.
-  const bool apic = c.solver.velocity_transfer == VelocityTransfer::Apic;
-  const double f0 = motion.function(0.0);
-  for (std::size_t q = start; q < p.size(); ++q)
-    for (int d = 0; d < D; ++d)
-      if (motion.prescribed[d]) {
-        p.v_p[q][d] = f0 * motion.velocity(d, p.x_p[q]);
-        if (apic) p.C_p[q].row(d) = f0 * motion.grad.row(d);
-      }
-  m.motion.push_back(motion);
+  return motion;
 }
-
-}  // namespace
 
 template <int D>
 Model<D> build_model(const Config& c) {
@@ -469,11 +477,22 @@ Model<D> build_model(const Config& c) {
   m.particles.permute(blocks.order());
   const auto& mp = m.particles.m_p;
   m.step.node_mass_floor = c.solver.mass_threshold * *std::min_element(mp.begin(), mp.end());
+  m.id_count = static_cast<std::int64_t>(m.particles.size());
+  m.staged = c.staged();
+  // Bodies that a stage adds wait outside the step (model/stage_change.hpp).
+  if (std::find(c.body_starts_dormant.begin(), c.body_starts_dormant.end(), true) != c.body_starts_dormant.end()) {
+    std::vector<std::int32_t> dormant_bodies;
+    for (std::size_t b = 0; b < c.body_starts_dormant.size(); ++b)
+      if (c.body_starts_dormant[b]) dormant_bodies.push_back(static_cast<std::int32_t>(b));
+    move_bodies(m.particles, m.dormant, dormant_bodies);
+  }
   m.loads = build_loads<D>(c, m.particles, m.grid);
   m.contact = build_contact<D>(c, m);
   return m;
 }
 
+template BodyMotion<2> body_motion<2>(const Config&, int);
+template BodyMotion<3> body_motion<3>(const Config&, int);
 template Model<2> build_model<2>(const Config&);
 template Model<3> build_model<3>(const Config&);
 

@@ -50,8 +50,15 @@ struct Model {
   bool rotate_initial_stress = false;       // some body holds an anisotropic sigma0 by eq (2)
   Loads<D> loads;                           // the input's [[loads]] (model/loads.hpp)
   Contact<D> contact;                       // [[contact]] and frictional faces (model/contact.hpp)
+  // Staged runs (model/stage_change.hpp): the particles of the bodies a later stage adds, made with
+  // the others (so overlaps and ids are settled once) and kept out of the step until then.
+  Particles<D> dormant;
+  std::int64_t id_count = 0;                // ids 0..id_count-1 are given out, in particles or dormant
+  bool staged = false;                      // the particle count may change between stages
 
-  std::size_t bytes() const { return grid.bytes() + particles.size() * particles.bytes_per_particle(); }
+  std::size_t bytes() const {
+    return grid.bytes() + (particles.size() + dormant.size()) * particles.bytes_per_particle();
+  }
 };
 
 // Peak memory of a run in bytes, from its grid slots (Grid::size) and particle count: the model
@@ -65,11 +72,17 @@ double memory_estimate(double grid_slots, double particles, bool affine) {
   return 1.25 * model + 32e6;
 }
 
+// A body's prescribed motion from its input (its function on the run's clock).
+template <int D>
+BodyMotion<D> body_motion(const Config& config, int body);
+
 // Builds the particles and grid; throws InputError (before allocating) when memory_estimate
 // exceeds the memory available.
 template <int D>
 Model<D> build_model(const Config& config);
 
+extern template BodyMotion<2> body_motion<2>(const Config&, int);
+extern template BodyMotion<3> body_motion<3>(const Config&, int);
 extern template Model<2> build_model<2>(const Config&);
 extern template Model<3> build_model<3>(const Config&);
 

@@ -1,0 +1,178 @@
+#include "tsuchi/model/stage_change.hpp"
+
+#include "tsuchi/core/principal_frame.hpp"
+#include "tsuchi/model/material_state.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <type_traits>
+
+namespace tsuchi {
+
+template <int D>
+void move_bodies(Particles<D>& from, Particles<D>& to, const std::vector<std::int32_t>& bodies) {
+  if (to.size() == 0 && to.state_name.empty()) {
+    to.set_state_columns(from.state_name, from.state_initial);
+    to.affine = from.affine;
+  }
+  std::vector<std::size_t> keep, move;
+  for (std::size_t i = 0; i < from.size(); ++i)
+    (std::find(bodies.begin(), bodies.end(), from.body_p[i]) != bodies.end() ? move : keep).push_back(i);
+  if (move.empty()) return;
+  const std::size_t base = to.size();
+  to.resize(base + move.size());
+  // Each array of `from` with its namesake in `to` (the same list, for_each_array).
+  from.for_each_array([&](const char* name, auto& a) {
+    using A = std::decay_t<decltype(a)>;
+    to.for_each_array([&](const char* other, auto& b) {
+      if constexpr (std::is_same_v<A, std::decay_t<decltype(b)>>) {
+        if (std::strcmp(name, other) != 0) return;
+        for (std::size_t k = 0; k < move.size(); ++k) b[base + k] = a[move[k]];
+        for (std::size_t k = 0; k < keep.size(); ++k) a[k] = a[keep[k]];  // keep[k] >= k: in place
+        a.resize(keep.size());
+      }
+    });
+  });
+}
+
+template <int D>
+void change_particles(Model<D>& m, const Config& run, std::size_t k) {
+  const StageConfig& st = run.stages[k];
+  if (!st.remove.empty()) {
+    Particles<D> gone;
+    move_bodies(m.particles, gone, st.remove);
+    // A surface load keeps the particles that are still there.
+    std::vector<std::uint8_t> present(static_cast<std::size_t>(m.id_count), 0);
+    for (const std::int64_t id : m.particles.id_p) present[static_cast<std::size_t>(id)] = 1;
+    for (auto& load : m.loads.surface) {
+      std::size_t kept = 0;
+      for (std::size_t e = 0; e < load.id.size(); ++e)
+        if (present[static_cast<std::size_t>(load.id[e])]) load.id[kept] = load.id[e], load.force[kept++] = load.force[e];
+      load.id.resize(kept), load.force.resize(kept);
+    }
+  }
+  if (!st.add.empty()) move_bodies(m.dormant, m.particles, st.add);
+  if (st.reset_displacements) {
+    std::fill(m.particles.u_p.begin(), m.particles.u_p.end(), Vec<D>::Zero());
+    std::fill(m.particles.eps_p.begin(), m.particles.eps_p.end(), Voigt<D>::Zero());
+  }
+}
+
+namespace {
+
+// Particles (active and dormant) of material `from` that a stage gives another material, or whose
+// material the stage changes: masses follow a new density; a new model's state starts at the
+// particle's stress (its start hook, material.hpp), as at the start of a run.
+template <int D>
+void restate(Particles<D>& p, int material, const Material& before, const Material& after,
+             const std::vector<std::int32_t>* only_bodies = nullptr) {
+  const double scale = after.density / before.density;
+  const bool new_model = after.model.index() != before.model.index();
+  for (std::size_t q = 0; q < p.size(); ++q) {
+    if (p.material_p[q] != material) continue;
+    if (only_bodies && std::find(only_bodies->begin(), only_bodies->end(), p.body_p[q]) == only_bodies->end()) continue;
+    p.m_p[q] *= scale;
+  }
+  if (!new_model) return;
+  std::visit(
+      [&](const auto& model) {
+        using M = std::decay_t<decltype(model)>;
+        const auto cols = state_columns<M>(p);
+        for (std::size_t q = 0; q < p.size(); ++q) {
+          if (p.material_p[q] != material) continue;
+          if (only_bodies && std::find(only_bodies->begin(), only_bodies->end(), p.body_p[q]) == only_bodies->end())
+            continue;
+          start_state(model, PrincipalFrame<D>(p.sigma_p[q]).values, StateRef{cols.data(), q});
+        }
+      },
+      after.model);
+}
+
+}  // namespace
+
+template <int D>
+void reconfigure(Model<D>& m, const Config& run, std::size_t k, double t0) {
+  const StageConfig& st = run.stages[k];
+  const Config& c = *st.config;
+  const Config& before = k > 0 ? *run.stages[k - 1].config : c;
+  if (st.changes_materials) {
+    for (std::size_t j = 0; j < c.materials.size(); ++j) {
+      Material mat = c.materials[j];
+      std::visit([&](auto& model) {
+        if constexpr (requires { model.with_cell_size(1.0); }) model = model.with_cell_size(m.grid.h);
+      }, mat.model);
+      const auto index = static_cast<int>(j);
+      restate(m.particles, index, m.materials[j], mat);
+      restate(m.dormant, index, m.materials[j], mat);
+      m.materials[j] = mat;
+    }
+  }
+  // A body given another material: its particles of the old one (not those of its regions).
+  for (const int b : st.changes_motion) {
+    const auto ub = static_cast<std::size_t>(b);
+    const int from = before.bodies[ub].material_index, to = c.bodies[ub].material_index;
+    if (from == to) continue;
+    const std::vector<std::int32_t> only{b};
+    for (Particles<D>* p : {&m.particles, &m.dormant}) {
+      Material after = m.materials[static_cast<std::size_t>(to)];
+      restate(*p, from, m.materials[static_cast<std::size_t>(from)], after, &only);
+      for (std::size_t q = 0; q < p->size(); ++q)
+        if (p->body_p[q] == b && p->material_p[q] == from) p->material_p[q] = to;
+    }
+  }
+  // The step's settings: cheap, so always from the stage's input.
+  m.step.scheme = c.solver.scheme;
+  m.step.kernel = c.solver.shape;
+  m.step.pic_fraction = c.solver.pic_fraction;
+  m.step.anti_locking.assign(c.materials.size(), c.solver.anti_locking);
+  for (std::size_t j = 0; j < c.material_anti_locking.size() && j < c.materials.size(); ++j)
+    if (c.material_anti_locking[j]) m.step.anti_locking[j] = *c.material_anti_locking[j];
+  m.step.hold_released_volume = c.solver.hold_released_volume;
+  m.step.damping = c.solver.damping;
+  m.step.sort_interval = c.solver.sort_interval;
+  if (c.solver.mass_threshold != before.solver.mass_threshold) {
+    double lightest = std::numeric_limits<double>::infinity();
+    for (const Particles<D>* p : {&m.particles, &m.dormant})
+      for (const double mass : p->m_p) lightest = std::min(lightest, mass);
+    m.step.node_mass_floor = c.solver.mass_threshold * lightest;
+  }
+  for (int d = 0; d < D; ++d) m.step.gravity[d] = c.gravity[d];
+  if (st.changes_gravity)
+    m.step.gravity_function = c.gravity_function >= 0
+                                  ? c.functions[static_cast<std::size_t>(c.gravity_function)].f.starting_at(t0)
+                                  : TimeFunction{};
+  if (st.changes_boundary) {
+    set_boundary_conditions(c, m.grid, m.node_sets, m.held_nodes);
+    for (auto& set : m.node_sets) set.f = set.f.starting_at(t0);
+  }
+  for (const int b : st.changes_motion) {
+    BodyMotion<D> motion = body_motion<D>(c, b);
+    motion.function = motion.function.starting_at(t0);
+    m.motion[static_cast<std::size_t>(b)] = motion;
+  }
+  if (st.changes_loads) {
+    m.loads = build_loads<D>(c, m.particles, m.grid);
+    for (auto& l : m.loads.surface) l.function = l.function.starting_at(t0);
+    for (auto& l : m.loads.nodal) l.function = l.function.starting_at(t0);
+    for (auto& l : m.loads.body) l.function = l.function.starting_at(t0);
+  }
+}
+
+template <int D>
+void restore_stage(Model<D>& m, const Config& run, std::size_t k, const std::vector<double>& starts) {
+  for (std::size_t j = 1; j <= k; ++j) {
+    change_particles(m, run, j);
+    reconfigure(m, run, j, starts[j]);
+  }
+}
+
+template void move_bodies<2>(Particles<2>&, Particles<2>&, const std::vector<std::int32_t>&);
+template void move_bodies<3>(Particles<3>&, Particles<3>&, const std::vector<std::int32_t>&);
+template void change_particles<2>(Model<2>&, const Config&, std::size_t);
+template void change_particles<3>(Model<3>&, const Config&, std::size_t);
+template void reconfigure<2>(Model<2>&, const Config&, std::size_t, double);
+template void reconfigure<3>(Model<3>&, const Config&, std::size_t, double);
+template void restore_stage<2>(Model<2>&, const Config&, std::size_t, const std::vector<double>&);
+template void restore_stage<3>(Model<3>&, const Config&, std::size_t, const std::vector<double>&);
+
+}  // namespace tsuchi

@@ -74,6 +74,9 @@ void print_contact(const Config& c, const Model<D>& m) {
   }
 }
 
+void print_stages(const Config& c);
+void print_length(const Config& c, double dt, const std::string& output_dir);
+
 template <int D>
 void print_summary(const Config& c, const Model<D>& m, const std::string& output_dir) {
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
@@ -106,6 +109,56 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
       fmt::print("           material \"{}\": anti-locking {}\n", c.materials[k].name, to_string(*c.material_anti_locking[k]));
   fmt::print("time step  {:.4g} s ({}; stable limit {:.4g} s)\n", dt,
              c.time.courant ? fmt::format("Courant {}", *c.time.courant) : std::string("fixed"), dt_crit);
+  if (c.staged()) {
+    print_stages(c);
+    fmt::print("output     {} (a frame at the end of each stage{}; stages.csv)\n", output_dir,
+               c.output.interval > 0 ? fmt::format(" and every {} s", c.output.interval) : std::string{});
+  } else {
+    print_length(c, dt, output_dir);
+  }
+  fmt::print("memory     about {:.1f} MB\n", static_cast<double>(m.bytes()) / 1e6);
+  fmt::print("threads    {}\n", omp_get_max_threads());
+}
+
+// A staged run: each stage, what it changes and how it ends.
+void print_stages(const Config& c) {
+  const auto names = [&](const std::vector<int>& bodies) {
+    std::string r;
+    for (const int b : bodies) r += fmt::format("{}\"{}\"", r.empty() ? "" : ", ", c.bodies[static_cast<std::size_t>(b)].name);
+    return r;
+  };
+  for (std::size_t k = 0; k < c.stages.size(); ++k) {
+    const StageConfig& st = c.stages[k];
+    const StageEnd& e = st.end;
+    std::vector<std::string> ends;
+    if (e.duration) ends.push_back(fmt::format("after {:g} s", *e.duration));
+    if (e.steps > 0) ends.push_back(fmt::format("after {} steps", e.steps));
+    if (e.unbalanced_force_ratio) ends.push_back(fmt::format("unbalanced-force ratio < {:g}", *e.unbalanced_force_ratio));
+    if (e.kinetic_energy_ratio) ends.push_back(fmt::format("kinetic-energy ratio < {:g}", *e.kinetic_energy_ratio));
+    if (e.recorder >= 0)
+      ends.push_back(fmt::format("{} {}", c.recorders[static_cast<std::size_t>(e.recorder)].name,
+                                 e.above ? fmt::format(">= {:g}", *e.above) : fmt::format("<= {:g}", *e.below)));
+    if (e.max_steps > 0) ends.push_back(fmt::format("at most {} steps", e.max_steps));
+    std::string ends_text;
+    for (const auto& x : ends) ends_text += (ends_text.empty() ? "" : ", ") + x;
+    std::vector<std::string> changes;
+    if (!st.remove.empty()) changes.push_back("removes " + names(st.remove));
+    if (!st.add.empty()) changes.push_back("adds " + names(st.add));
+    if (st.reset_displacements) changes.push_back("resets displacements");
+    if (st.changes_gravity) changes.push_back("gravity");
+    if (st.changes_boundary) changes.push_back("boundary");
+    if (st.changes_loads) changes.push_back("loads");
+    if (st.changes_materials) changes.push_back("materials");
+    if (st.changes_solver) changes.push_back(fmt::format("solver (damping {})", st.config->solver.damping));
+    if (!st.changes_motion.empty()) changes.push_back("motion of " + names(st.changes_motion));
+    std::string change_text;
+    for (const auto& x : changes) change_text += (change_text.empty() ? "" : ", ") + x;
+    fmt::print("stage {:<4} \"{}\": ends {}{}\n", k + 1, st.name, ends_text,
+               change_text.empty() ? std::string{} : fmt::format("; changes {}", change_text));
+  }
+}
+
+void print_length(const Config& c, double dt, const std::string& output_dir) {
   // To the time a recorder will stop the run when that can be foreseen, else to time.end.
   const auto stop = forecast_stop(c);
   Config to_stop = c;
@@ -125,8 +178,6 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
   fmt::print("output     {} ({:.0f} frames{})\n", output_dir, length.frames,
              c.output.global_interval > 0 ? fmt::format(", global.csv every {} s", c.output.global_interval)
                                           : ", global.csv every step");
-  fmt::print("memory     about {:.1f} MB\n", static_cast<double>(m.bytes()) / 1e6);
-  fmt::print("threads    {}\n", omp_get_max_threads());
 }
 
 template <int D>
@@ -135,7 +186,7 @@ int check(const Config& c) {
   const Model<D> m = build_model<D>(c);
   make_recorders<D>(c, m);  // an empty particle set is an input error
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
-  check_run_length(c, next_time_step(c.time, dt_crit, 0, c.source));
+  if (!c.staged()) check_run_length(c, next_time_step(c.time, dt_crit, 0, c.source));
   print_summary<D>(c, m, c.output.directory);
   fmt::print("input is valid\n");
   return exit_code::ok;
@@ -167,8 +218,16 @@ int run(const Config& c, const Options& o) {
     last = p;
     if (!o.quiet) reporter.update(p);
   };
+  ro.on_stage_end = [&](const StageReport& r) {
+    if (!o.quiet) reporter.finish(last);
+    fmt::print("stage {}/{} \"{}\": {} at step {} (t = {:.6g} s), {} steps, unbalanced-force ratio {:.3g}\n", r.stage,
+               r.stages, r.name, r.end, r.end_step, r.end_time, r.end_step - r.start_step, r.unbalanced_force_ratio);
+    if (r.equilibrium_asked && r.end != "equilibrium")
+      fmt::print(stderr, "warning: stage \"{}\" ended by {} before equilibrium; the next stage starts from a state that "
+                         "is not at rest\n", r.name, r.end);
+  };
   const RunSummary s = run_simulation<D>(m, c, ro);
-  if (!o.quiet) reporter.finish(last);
+  if (!o.quiet && !c.staged()) reporter.finish(last);
   const double rate = s.wall_seconds > 0 ? static_cast<double>(s.steps) * static_cast<double>(m.particles.size()) / s.wall_seconds : 0.0;
   if (!s.stopped_by.empty()) fmt::print("stopped: {}\n", s.stopped_by);
   if (!s.checkpoint.empty()) fmt::print("checkpoint: {}\n", s.checkpoint);

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <unistd.h>
 
 namespace tsuchi::app {
@@ -19,7 +20,11 @@ ProgressReporter::ProgressReporter(std::FILE* out)
     : out_(out), tty_(::isatty(::fileno(out)) != 0), start_(std::chrono::steady_clock::now()), last_(start_) {}
 
 void ProgressReporter::update(const Progress& p) {
-  if (!started_) started_ = true, start_fraction_ = p.fraction, last_reported_fraction_ = p.fraction;
+  // Each stage of a staged run is its own 0-100 %: its ETA is measured from its own start.
+  if (!started_ || p.stage != latest_.stage) {
+    if (started_) start_ = std::chrono::steady_clock::now(), start_step_ = p.step;
+    started_ = true, start_fraction_ = p.fraction, last_reported_fraction_ = p.fraction;
+  }
   latest_ = p;
   const auto now = std::chrono::steady_clock::now();
   const double since = std::chrono::duration<double>(now - last_).count();
@@ -41,16 +46,18 @@ void ProgressReporter::finish(const Progress& p) {
 void ProgressReporter::print(const Progress& p, bool final) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double fraction = std::clamp(p.fraction, 0.0, 1.0);
-  const double steps_per_s = wall > 0 ? static_cast<double>(p.step) / wall : 0.0;
+  const double steps_per_s = wall > 0 ? static_cast<double>(p.step - start_step_) / wall : 0.0;
   // Measured from this run's start: a restart's progress so far says nothing of its speed.
   const double done = fraction - start_fraction_;
   const double eta = done > 0 ? wall * (1.0 - fraction) / done : -1.0;
   // When a recorder will stop the run before time.end, its value against its bound is the progress.
   const std::string measure = p.leader.empty()
-                                  ? fmt::format("t={:.4g}/{:.4g} s", p.time, p.end_time)
+                                  ? (std::isfinite(p.end_time) ? fmt::format("t={:.4g}/{:.4g} s", p.time, p.end_time)
+                                                               : fmt::format("t={:.4g} s", p.time))
                                   : fmt::format("{}={:.4g}/{:.4g} t={:.4g} s", p.leader, p.leader_value,
                                                 p.leader_bound, p.time);
-  const std::string status = fmt::format("{:5.1f}% step {} {} dt={:.3g} s {:.0f} steps/s {} {}", 100.0 * fraction,
+  const std::string stage = p.stages > 1 ? fmt::format("stage {}/{} {} ", p.stage, p.stages, p.stage_name) : std::string{};
+  const std::string status = fmt::format("{}{:5.1f}% step {} {} dt={:.3g} s {:.0f} steps/s {} {}", stage, 100.0 * fraction,
                                          p.step, measure, p.dt, steps_per_s, final ? "elapsed" : "ETA",
                                          clock_text(final ? wall : eta));
   if (tty_) {

@@ -22,6 +22,7 @@ class ProgressReporter {
   std::chrono::steady_clock::time_point start_, last_;
   double last_reported_fraction_ = 0.0;
   bool started_ = false;
+  std::int64_t start_step_ = 0;   // the step count at start_ (a later stage's start)
   double start_fraction_ = 0.0;  // where the run was at its first step (a restart starts on the way)
   Progress latest_;
 };

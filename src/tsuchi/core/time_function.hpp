@@ -26,6 +26,9 @@ class TimeFunction {
     return g;
   }
   double start() const { return start_; }
+  // When the function stops changing: a table's last time (on the run's clock); the start for
+  // f = 1 and for a formula, whose future is not known.
+  double settles_at() const { return kind_ == Kind::Table ? start_ + t_.back() : start_; }
 
   bool is_one() const { return kind_ == Kind::One; }
   double operator()(double t) const;

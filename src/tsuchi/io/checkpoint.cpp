@@ -152,7 +152,9 @@ void check_particles(const Particles<D>& p, const Model<D>& model, const Decoder
   const auto nbodies = static_cast<std::int32_t>(model.body_names.size());
   const auto nmat = static_cast<std::int32_t>(model.materials.size());
   if (!all_finite(p)) in.fail("a particle value is not finite");
-  std::vector<bool> seen(n, false);
+  // A staged run's ids: 0..id_count-1 over the particles and the bodies still to be added.
+  const std::int64_t ids = model.staged ? model.id_count : static_cast<std::int64_t>(n);
+  std::vector<bool> seen(static_cast<std::size_t>(ids), false);
   std::vector<std::size_t> flags;  // state columns of flag fields (written to frames as bytes)
   for (std::size_t k = 0; k < material_state_fields().size(); ++k)
     if (material_state_fields()[k].flag) flags.push_back(k);
@@ -160,7 +162,7 @@ void check_particles(const Particles<D>& p, const Model<D>& model, const Decoder
     if (p.body_p[i] < 0 || p.body_p[i] >= nbodies) in.fail(fmt::format("particle {} names body {}", i, p.body_p[i]));
     if (p.material_p[i] < 0 || p.material_p[i] >= nmat)
       in.fail(fmt::format("particle {} names material {}", i, p.material_p[i]));
-    if (p.id_p[i] < 0 || static_cast<std::size_t>(p.id_p[i]) >= n || seen[static_cast<std::size_t>(p.id_p[i])])
+    if (p.id_p[i] < 0 || p.id_p[i] >= ids || seen[static_cast<std::size_t>(p.id_p[i])])
       in.fail(fmt::format("particle {} has an invalid or repeated id {}", i, p.id_p[i]));
     seen[static_cast<std::size_t>(p.id_p[i])] = true;
     for (std::size_t k = 0; k < flags.size(); ++k) {
@@ -207,6 +209,21 @@ void write_checkpoint(const std::string& path, const Model<D>& model, const RunP
   for (const auto& [t, name] : r.output.frames) frame_times.push_back(t), frame_names += name + '\n';
   e.array("frame_times", frame_times);
   e.text("frame_names", frame_names);
+  e.scalar("stage", r.stage);
+  e.scalar("stage_done", static_cast<std::uint8_t>(r.stage_done));
+  e.array("stage_starts", r.stage_starts);
+  e.array("stage_start_steps", r.stage_start_steps);
+  e.scalar("stage_peak_kinetic", r.stage_peak_kinetic);
+  e.scalar("stage_first_frame", r.stage_first_frame);
+  e.scalar("stages_csv_bytes", r.output.stages_bytes);
+  e.scalar("stages_csv_crc", r.output.stages_crc);
+  if (model.staged) {
+    e.scalar("surface_loads", static_cast<std::uint64_t>(model.loads.surface.size()));
+    for (std::size_t l = 0; l < model.loads.surface.size(); ++l) {
+      e.array(fmt::format("load.{}.id", l), model.loads.surface[l].id);
+      e.array(fmt::format("load.{}.force", l), model.loads.surface[l].force);
+    }
+  }
   e.raw(crc32_of(e.bytes()));
   write_file_atomically(path, e.bytes());
 }
@@ -234,7 +251,8 @@ Header read_header(std::string_view bytes, const std::string& source) {
 }
 
 template <int D>
-RunProgress decode_checkpoint(std::string_view bytes, const std::string& source, Model<D>& model, bool verify_checksum) {
+RunProgress decode_checkpoint(std::string_view bytes, const std::string& source, Model<D>& model, bool verify_checksum,
+                              const std::function<void(const RunProgress&)>& before_particles) {
   const auto fail = [&](const std::string& what) { refuse(source, what); };
   if (bytes.size() < header_size + 4) fail("it does not start like a tsuchi checkpoint");
   const auto [fp, count] = read_header<D>(bytes, source);
@@ -248,7 +266,7 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
                      "differ from {}); only time.end, time.max_steps, the time step, [output], [checkpoint] and "
                      "recorder stop bounds may change on a restart",
                      model.source));
-  if (count != model.particles.size())
+  if (model.staged ? count > static_cast<std::uint64_t>(model.id_count) : count != model.particles.size())
     fail(fmt::format("it holds {} particles, the input makes {}", count, model.particles.size()));
 
   const Decoder in(body, source);
@@ -264,6 +282,25 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
   if (!std::isfinite(r.time) || r.time < 0.0 || r.steps < 0 || !std::isfinite(r.dt) || r.dt < 0.0 ||
       r.frame_index < 1 || r.row_index < 1 || r.label_index < 0 || !std::isfinite(r.last_frame) || !std::isfinite(r.last_row))
     in.fail("the time or the output counters are out of range");
+  r.stage = in.scalar<std::int64_t>("stage");
+  r.stage_done = in.scalar<std::uint8_t>("stage_done") != 0;
+  const std::size_t starts = in.section("stage_starts").size() / sizeof(double);
+  in.array("stage_starts", r.stage_starts, starts);
+  in.array("stage_start_steps", r.stage_start_steps, starts);
+  r.stage_peak_kinetic = in.scalar<double>("stage_peak_kinetic");
+  r.stage_first_frame = in.scalar<std::int64_t>("stage_first_frame");
+  r.output.stages_bytes = in.scalar<std::uint64_t>("stages_csv_bytes");
+  r.output.stages_crc = in.scalar<std::uint32_t>("stages_csv_crc");
+  const auto stages = static_cast<std::int64_t>(model.staged ? std::max<std::size_t>(model.stage_count, 1) : 1);
+  const bool starts_ok = starts == static_cast<std::size_t>(r.stage) + 1 || (!model.staged && starts == 0);
+  if (r.stage < 0 || r.stage >= stages || !starts_ok ||
+      !std::isfinite(r.stage_peak_kinetic) || r.stage_first_frame < 0)
+    in.fail("the stage counters are out of range");
+  for (const double t : r.stage_starts)
+    if (!std::isfinite(t) || t < 0.0 || t > r.time) in.fail("a stage's start time is out of range");
+  if (before_particles) before_particles(r);
+  if (count != model.particles.size())
+    fail(fmt::format("it holds {} particles, the input makes {} at its stage", count, model.particles.size()));
   Particles<D> p;
   // A copy: clang before 16 cannot capture a structured binding in a lambda.
   const auto particle_count = static_cast<std::size_t>(count);
@@ -289,12 +326,25 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
       in.fail("a frame entry is not a plain file name and time");
     r.output.frames.emplace_back(t, name);
   }
+  if (model.staged) {
+    const auto loads = in.scalar<std::uint64_t>("surface_loads");
+    if (loads != model.loads.surface.size()) in.fail("it holds another number of surface loads than the input's stage");
+    for (std::size_t l = 0; l < model.loads.surface.size(); ++l) {
+      auto& load = model.loads.surface[l];
+      const std::size_t n = in.section(fmt::format("load.{}.id", l)).size() / sizeof(std::int64_t);
+      in.array(fmt::format("load.{}.id", l), load.id, n);
+      in.array(fmt::format("load.{}.force", l), load.force, n);
+      for (const std::int64_t id : load.id)
+        if (id < 0 || id >= model.id_count) in.fail("a surface load names a particle that does not exist");
+    }
+  }
   model.particles = std::move(p);
   return r;
 }
 
 template <int D>
-RunProgress read_checkpoint(const std::string& path, Model<D>& model) {
+RunProgress read_checkpoint(const std::string& path, Model<D>& model,
+                            const std::function<void(const RunProgress&)>& before_particles) {
   // The header first: a device, a pipe or a huge foreign file must not be read into memory.
   std::FILE* f = std::fopen(path.c_str(), "rb");
   if (!f) throw InputError(fmt::format("{}: cannot open the checkpoint: {}", path, std::strerror(errno)));
@@ -305,7 +355,7 @@ RunProgress read_checkpoint(const std::string& path, Model<D>& model) {
   std::string bytes(header_size, '\0');
   const std::size_t got = std::fread(bytes.data(), 1, header_size, f);
   const std::uint64_t count = read_header<D>(std::string_view(bytes).substr(0, got), path).particles;
-  if (count != model.particles.size())
+  if (model.staged ? count > static_cast<std::uint64_t>(model.id_count) : count != model.particles.size())
     refuse(path, fmt::format("it holds {} particles, the input makes {}", count, model.particles.size()));
   // Every section but the frame list is a fixed size per particle; 64 bytes per frame listed.
   const auto size = static_cast<std::uint64_t>(st.st_size);
@@ -314,14 +364,14 @@ RunProgress read_checkpoint(const std::string& path, Model<D>& model) {
   bytes.resize(static_cast<std::size_t>(size));
   const std::size_t rest = bytes.size() - header_size;
   if (std::fread(bytes.data() + header_size, 1, rest, f) != rest) refuse(path, "it could not be read to its end");
-  return decode_checkpoint<D>(bytes, path, model, true);
+  return decode_checkpoint<D>(bytes, path, model, true, before_particles);
 }
 
 template void write_checkpoint<2>(const std::string&, const Model<2>&, const RunProgress&);
 template void write_checkpoint<3>(const std::string&, const Model<3>&, const RunProgress&);
-template RunProgress read_checkpoint<2>(const std::string&, Model<2>&);
-template RunProgress read_checkpoint<3>(const std::string&, Model<3>&);
-template RunProgress decode_checkpoint<2>(std::string_view, const std::string&, Model<2>&, bool);
-template RunProgress decode_checkpoint<3>(std::string_view, const std::string&, Model<3>&, bool);
+template RunProgress read_checkpoint<2>(const std::string&, Model<2>&, const std::function<void(const RunProgress&)>&);
+template RunProgress read_checkpoint<3>(const std::string&, Model<3>&, const std::function<void(const RunProgress&)>&);
+template RunProgress decode_checkpoint<2>(std::string_view, const std::string&, Model<2>&, bool, const std::function<void(const RunProgress&)>&);
+template RunProgress decode_checkpoint<3>(std::string_view, const std::string&, Model<3>&, bool, const std::function<void(const RunProgress&)>&);
 
 }  // namespace tsuchi

@@ -12,6 +12,8 @@
 #include "tsuchi/model/model.hpp"
 
 #include <cstdint>
+#include <functional>
+#include <vector>
 #include <string>
 #include <string_view>
 
@@ -21,7 +23,11 @@ namespace tsuchi {
 // 3: particle ids are 64-bit; the material state is saved column by column under the names of the
 //    state fields (p.yield_mode, p.plastic_shear_strain, ...), every column a double.
 // 4: the particles' APIC affine matrix, p.C (D x D doubles, zero with the FLIP transfer).
-inline constexpr std::uint32_t checkpoint_version = 4;
+// 5: the stage of a staged run (its index, whether it has ended, the start time and step of every
+//    stage so far, the largest kinetic energy of the stage, its first frame), stages.csv's length
+//    and CRC-32, and the particles and forces of the surface loads (a stage builds them on the
+//    particles of its start, which a restart no longer has).
+inline constexpr std::uint32_t checkpoint_version = 5;
 
 // The time loop's own state at the end of a step.
 struct RunProgress {
@@ -33,6 +39,13 @@ struct RunProgress {
   std::int64_t label_index = 0;    // k of the next frame by recorder value, k * output.label_interval
   double last_frame = 0.0, last_row = 0.0;  // times of the last frame and row written
   OutputHistory output;
+  // Staged runs (docs/stages.md); a single-stage run is stage 0 throughout.
+  std::int64_t stage = 0;
+  bool stage_done = false;                  // saved at the end of `stage`: a restart begins the next one
+  std::vector<double> stage_starts;         // start time of each stage up to `stage`
+  std::vector<std::int64_t> stage_start_steps;
+  double stage_peak_kinetic = 0.0;          // the largest kinetic energy of the stage so far (J)
+  std::int64_t stage_first_frame = 0;       // the stage's first frame, for its .pvd
 };
 
 // Writes atomically (temporary file, then rename); throws OutputError.
@@ -42,20 +55,24 @@ void write_checkpoint(const std::string& path, const Model<D>& model, const RunP
 // Reads a checkpoint into `model` (built from the same input) and returns the loop state. Throws
 // InputError naming the file and what is wrong: not a checkpoint, another version, dimension or
 // input, a bad checksum, or a truncated or inconsistent content. The model is untouched then.
+// For a staged run, `before_particles` is called with the loop state before the particles are
+// read: it brings the model to the checkpoint's stage (model/stage_change.hpp, restore_stage).
 template <int D>
-RunProgress read_checkpoint(const std::string& path, Model<D>& model);
+RunProgress read_checkpoint(const std::string& path, Model<D>& model,
+                            const std::function<void(const RunProgress&)>& before_particles = {});
 
 // The same from bytes in memory; `verify_checksum` is false only for fuzzing, which could not
 // otherwise get past the checksum to the parser.
 template <int D>
 RunProgress decode_checkpoint(std::string_view bytes, const std::string& source, Model<D>& model,
-                              bool verify_checksum = true);
+                              bool verify_checksum = true,
+                              const std::function<void(const RunProgress&)>& before_particles = {});
 
 extern template void write_checkpoint<2>(const std::string&, const Model<2>&, const RunProgress&);
 extern template void write_checkpoint<3>(const std::string&, const Model<3>&, const RunProgress&);
-extern template RunProgress read_checkpoint<2>(const std::string&, Model<2>&);
-extern template RunProgress read_checkpoint<3>(const std::string&, Model<3>&);
-extern template RunProgress decode_checkpoint<2>(std::string_view, const std::string&, Model<2>&, bool);
-extern template RunProgress decode_checkpoint<3>(std::string_view, const std::string&, Model<3>&, bool);
+extern template RunProgress read_checkpoint<2>(const std::string&, Model<2>&, const std::function<void(const RunProgress&)>&);
+extern template RunProgress read_checkpoint<3>(const std::string&, Model<3>&, const std::function<void(const RunProgress&)>&);
+extern template RunProgress decode_checkpoint<2>(std::string_view, const std::string&, Model<2>&, bool, const std::function<void(const RunProgress&)>&);
+extern template RunProgress decode_checkpoint<3>(std::string_view, const std::string&, Model<3>&, bool, const std::function<void(const RunProgress&)>&);
 
 }  // namespace tsuchi

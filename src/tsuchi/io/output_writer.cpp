@@ -74,21 +74,23 @@ void check_output_paths(const Config& c, const std::string& directory, const std
 
 template <int D>
 OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output, std::string directory,
-                              std::vector<std::string> recorder_names, const OutputHistory* resume)
+                              std::vector<std::string> recorder_names, const OutputHistory* resume, bool staged)
     : m_(model),
       output_(output),
       dir_(std::move(directory)),
       lock_((prepare_output_directory(dir_), dir_)),
-      recorders_(std::move(recorder_names)) {
+      recorders_(std::move(recorder_names)),
+      staged_(staged) {
   std::string global_header = "time,step,dt,kinetic_energy,strain_energy,gravity_potential,total_energy,mass";
   for (int d = 0; d < D; ++d) global_header += fmt::format(",momentum_{}", "xyz"[d]);
   global_header += ",unbalanced_force_ratio,released_particles";
-  global_header += model.contact.active() ? ",contact_nodes\n" : "\n";
+  global_header += model.contact.active() ? ",contact_nodes" : "";
+  global_header += staged ? ",stage\n" : "\n";
   std::string recorder_header;
   if (!recorders_.empty()) {
     recorder_header = "time,step";
     for (const auto& name : recorders_) recorder_header += "," + name;
-    recorder_header += '\n';
+    recorder_header += staged ? ",stage\n" : "\n";
   }
   if (resume) {
     h_ = *resume;
@@ -99,9 +101,14 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output,
                                      dir_, name));
     global_.resume(dir_ + "/global.csv", h_.global_bytes, h_.global_crc);
     if (!recorders_.empty()) recorder_file_.resume(dir_ + "/recorders.csv", h_.recorder_bytes, h_.recorder_crc);
+    if (staged_) stages_file_.resume(dir_ + "/stages.csv", h_.stages_bytes, h_.stages_crc);
   } else {
     global_.create(dir_ + "/global.csv", global_header);
     if (!recorders_.empty()) recorder_file_.create(dir_ + "/recorders.csv", recorder_header);
+    if (staged_)
+      stages_file_.create(dir_ + "/stages.csv",
+                          "stage,name,end,start_time,end_time,start_step,end_step,unbalanced_force_ratio,"
+                          "kinetic_energy_ratio,first_frame,last_frame\n");
   }
   // Frames of an earlier run (or written after the checkpoint by a killed one) would mix with this
   // run's in ParaView's view of the file series: remove every frame this run does not list.
@@ -111,7 +118,10 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output,
     // contact_NNNNNN.vtu goes with particles_NNNNNN.vtu: kept while that frame is listed.
     const std::string frame = name.rfind("contact_", 0) == 0 ? "particles_" + name.substr(8) : name;
     const bool listed = std::any_of(h_.frames.begin(), h_.frames.end(), [&](const auto& f) { return f.second == frame; });
+    const bool stage_pvd = name.rfind("particles_stage", 0) == 0 && name.size() > 19 &&
+                           name.compare(name.size() - 4, 4, ".pvd") == 0;
     if ((is_frame_file_name(frame) && !listed) || (name == "recorders.csv" && recorders_.empty()) ||
+        (name == "stages.csv" && !staged_) || (stage_pvd && !resume) ||
         (name == "contact.pvd" && (h_.frames.empty() || !model.contact.active())))
       fs::remove(entry.path(), ec);
   }
@@ -148,19 +158,37 @@ void OutputWriter<D>::global_row(double time, std::int64_t step, double dt, cons
                                 q.kinetic_energy + q.strain_energy + q.gravity_potential, q.mass);
   for (int d = 0; d < D; ++d) row += fmt::format(",{:.12g}", q.momentum[d]);
   row += fmt::format(",{:.6g},{}", report.unbalanced_force_ratio, report.released_particles);
-  row += report.contact_nodes >= 0 ? fmt::format(",{}\n", report.contact_nodes) : std::string("\n");
+  row += report.contact_nodes >= 0 ? fmt::format(",{}", report.contact_nodes) : std::string{};
+  row += staged_ ? fmt::format(",{}\n", stage_) : std::string("\n");
   global_.append(row);
   if (recorders_.empty()) return;
   row = fmt::format("{:.12g},{}", time, step);
   for (const double v : recorder_values) row += fmt::format(",{:.12g}", v);
-  row += '\n';
+  row += staged_ ? fmt::format(",{}\n", stage_) : std::string("\n");
   recorder_file_.append(row);
+}
+
+template <int D>
+void OutputWriter<D>::stage_row(const StageRow& r) {
+  // Quoted: a stage's name may hold a comma.
+  std::string name;
+  for (const char ch : r.name) name += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  stages_file_.append(fmt::format("{},\"{}\",{},{:.12g},{:.12g},{},{},{:.6g},{:.6g},{},{}\n", r.stage, name, r.end,
+                                  r.start_time, r.end_time, r.start_step, r.end_step, r.unbalanced_force_ratio,
+                                  r.kinetic_energy_ratio, r.first_frame, r.last_frame));
+  if (r.last_frame >= r.first_frame && static_cast<std::size_t>(r.last_frame) < h_.frames.size()) {
+    const std::vector<std::pair<double, std::string>> frames(h_.frames.begin() + r.first_frame,
+                                                             h_.frames.begin() + r.last_frame + 1);
+    write_file_atomically(fmt::format("{}/particles_stage{}.pvd", dir_, r.stage), pvd_document(frames));
+  }
+  flush_global();
 }
 
 template <int D>
 void OutputWriter<D>::flush_global(bool sync) {
   global_.flush(sync);
   recorder_file_.flush(sync);
+  stages_file_.flush(sync);
 }
 
 template <int D>
@@ -171,6 +199,8 @@ OutputHistory OutputWriter<D>::history() const {
   h.global_crc = global_.crc();
   h.recorder_bytes = recorder_file_.bytes();
   h.recorder_crc = recorder_file_.crc();
+  h.stages_bytes = stages_file_.bytes();
+  h.stages_crc = stages_file_.crc();
   return h;
 }
 

@@ -4,6 +4,8 @@
 //   particles.pvd         the time series ParaView opens, listing only complete frames
 //   global.csv            time series of whole-model quantities
 //   recorders.csv         time series of the input's recorders (when it has any), same rows
+//   stages.csv            staged runs: a row per stage ended (docs/stages.md), and
+//   particles_stageN.pvd  the frames of stage N; global.csv and recorders.csv get a `stage` column
 // Frames and the .pvd are replaced atomically; the CSVs grow by whole rows. A run holds a lock on
 // the directory (io/output_lock.hpp), and removes the frames of an earlier run there, so that
 // the directory only ever shows one run.
@@ -26,6 +28,18 @@ struct OutputHistory {
   std::vector<std::pair<double, std::string>> frames;  // (time, file name) listed in the .pvd
   std::uint64_t global_bytes = 0, recorder_bytes = 0;  // recorder_*: 0 when the input has no recorders
   std::uint32_t global_crc = 0, recorder_crc = 0;
+  std::uint64_t stages_bytes = 0;  // stages.csv; 0 for a single-stage run
+  std::uint32_t stages_crc = 0;
+};
+
+// A row of stages.csv: how a stage went.
+struct StageRow {
+  int stage = 0;  // 1-based
+  std::string name, end;  // end: what ended it ("duration", "steps", "equilibrium", "max_steps", ...)
+  double start_time = 0.0, end_time = 0.0;
+  std::int64_t start_step = 0, end_step = 0;
+  double unbalanced_force_ratio = 0.0, kinetic_energy_ratio = 0.0;
+  std::int64_t first_frame = 0, last_frame = -1;  // indices of the stage's frames (none: last < first)
 };
 
 // particles_NNNNNN.vtu (six or more digits): the name of a frame file.
@@ -49,8 +63,14 @@ class OutputWriter {
   // Creates the directory, locks it and starts the files; with `resume`, continues the files of a
   // checkpointed run instead (InputError when they are not there as the checkpoint left them).
   // recorders.csv gets a column per name in `recorder_names` (none: no file).
+  // With `staged`, the CSVs get a stage column and stages.csv is written (stage_row).
   OutputWriter(const Model<D>& model, const OutputConfig& output, std::string directory,
-               std::vector<std::string> recorder_names, const OutputHistory* resume = nullptr);
+               std::vector<std::string> recorder_names, const OutputHistory* resume = nullptr, bool staged = false);
+
+  // The stage the next rows belong to (1-based), for a staged run.
+  void set_stage(int stage) { stage_ = stage; }
+  // A row of stages.csv, and particles_stageN.pvd with the stage's frames.
+  void stage_row(const StageRow& row);
 
   // A frame of the particles; `label` is its time in the .pvd (the time, or the value of the
   // output.frame_label recorder). With `contact`, also contact_NNNNNN.vtu and contact.pvd: the
@@ -75,7 +95,9 @@ class OutputWriter {
   DirectoryLock lock_;
   OutputHistory h_;
   std::vector<std::string> recorders_;
-  AppendedFile global_, recorder_file_;
+  AppendedFile global_, recorder_file_, stages_file_;
+  bool staged_ = false;
+  int stage_ = 1;
 };
 
 extern template class OutputWriter<2>;

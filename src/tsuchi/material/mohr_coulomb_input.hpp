@@ -34,8 +34,9 @@ CohesionFriction read_cohesion_friction(Table& s, Warn&& warn) {
   const auto non_negative = [](double v) { return v >= 0.0; };
   CohesionFriction r;
   r.cohesion = s.number("cohesion", "a cohesion >= 0 in Pa", non_negative);
-  const double phi = s.number("friction_angle", "a friction angle in degrees, in (0, 90)",
-                              [](double v) { return v > 0.0 && v < 90.0; });
+  // phi = 0 is Tresca (undrained clay, c = s_u): no tension cap then, as c / tan(0) is infinite.
+  const double phi = s.number("friction_angle", "a friction angle in degrees, in [0, 90) (0: Tresca)",
+                              [](double v) { return v >= 0.0 && v < 90.0; });
   const double psi = s.number("dilatancy_angle", "a dilatancy angle in degrees, in [0, friction_angle]",
                               [](double v) { return v >= 0.0 && v < 90.0; }, 0.0);
   check_angle("friction_angle", phi);

@@ -479,6 +479,7 @@ Model<D> build_model(const Config& c) {
   m.step.node_mass_floor = c.solver.mass_threshold * *std::min_element(mp.begin(), mp.end());
   m.id_count = static_cast<std::int64_t>(m.particles.size());
   m.staged = c.staged();
+  m.stage_count = c.stages.size();
   // Bodies that a stage adds wait outside the step (model/stage_change.hpp).
   if (std::find(c.body_starts_dormant.begin(), c.body_starts_dormant.end(), true) != c.body_starts_dormant.end()) {
     std::vector<std::int32_t> dormant_bodies;

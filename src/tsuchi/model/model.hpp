@@ -55,6 +55,7 @@ struct Model {
   Particles<D> dormant;
   std::int64_t id_count = 0;                // ids 0..id_count-1 are given out, in particles or dormant
   bool staged = false;                      // the particle count may change between stages
+  std::size_t stage_count = 0;              // Config::stages.size()
 
   std::size_t bytes() const {
     return grid.bytes() + (particles.size() + dormant.size()) * particles.bytes_per_particle();

@@ -5,6 +5,8 @@
 #include "tsuchi/io/atomic_file.hpp"
 #include "tsuchi/io/checkpoint.hpp"
 #include "tsuchi/io/output_writer.hpp"
+#include "tsuchi/model/stage_change.hpp"
+#include "tsuchi/solver/global_quantities.hpp"
 #include "tsuchi/run/recorder.hpp"
 #include "tsuchi/solver/time_step.hpp"
 
@@ -15,6 +17,8 @@
 #include <chrono>
 #include <string_view>
 #include <cmath>
+#include <limits>
+#include <optional>
 
 namespace tsuchi {
 
@@ -129,17 +133,51 @@ std::string checkpoint_path(const Config& config, const std::string& output_dire
   return f.front() == '/' ? f : output_directory + "/" + f;
 }
 
+namespace {
+
+// When the functions of time that stage k sets stop changing (model/stage_change.hpp): its
+// equilibrium is judged only after that, so that a slow ramp of gravity or of a load is not taken
+// for equilibrium.
+template <int D>
+double stage_settles_at(const Model<D>& m, const Config& run, std::size_t k) {
+  double t = -std::numeric_limits<double>::infinity();
+  const bool all = !run.staged() || k == 0;
+  const StageConfig* st = run.staged() ? &run.stages[k] : nullptr;
+  if (all || st->changes_gravity) t = std::max(t, m.step.gravity_function.settles_at());
+  if (all || st->changes_loads) {
+    for (const auto& l : m.loads.surface) t = std::max(t, l.function.settles_at());
+    for (const auto& l : m.loads.nodal) t = std::max(t, l.function.settles_at());
+    for (const auto& l : m.loads.body) t = std::max(t, l.function.settles_at());
+  }
+  if (all || st->changes_boundary)
+    for (const auto& n : m.node_sets) t = std::max(t, n.f.settles_at());
+  for (std::size_t b = 0; b < m.motion.size(); ++b)
+    if (all || std::find(st->changes_motion.begin(), st->changes_motion.end(), static_cast<int>(b)) != st->changes_motion.end())
+      t = std::max(t, m.motion[b].function.settles_at());
+  return t;
+}
+
+}  // namespace
+
 template <int D>
 RunSummary run_simulation(Model<D>& model, const Config& config, const RunOptions& options,
                           const std::function<void(const ExplicitSolver<D>&)>& after_step) {
   using clock = std::chrono::steady_clock;
   const auto wall_start = clock::now();
-  const TimeConfig& tc = config.time;
   const OutputConfig& oc = config.output;
   const CheckpointConfig& kc = config.checkpoint;
-  const double end = tc.end;
+  const bool staged = config.staged();
+  const std::size_t last_stage = staged ? (options.last_stage >= 0 ? static_cast<std::size_t>(options.last_stage)
+                                                                   : config.stages.size() - 1)
+                                        : 0;
+  // The stage being run: its input (its time step settings) and its end. A single-stage run is
+  // stage 0, which ends at time.end or time.max_steps.
+  std::size_t stage = 0;
+  auto stage_config = [&]() -> const Config& { return staged ? *config.stages[stage].config : config; };
+  double end = staged ? std::numeric_limits<double>::infinity() : config.time.end;
 
-  ExplicitSolver<D> solver(model);
+  std::optional<ExplicitSolver<D>> solver;
+  solver.emplace(model);
   const std::string dir = options.output_directory.value_or(oc.directory);
   const std::string ck_path = checkpoint_path(config, dir);
   // Particle sets are chosen on the initial state, before a checkpoint replaces it.
@@ -148,7 +186,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   for (const auto& r : recorders) recorder_names.push_back(r.config().name);
   std::vector<double> recorder_values(recorders.size());
   auto recorder_row = [&]() -> const std::vector<double>& {
-    for (std::size_t k = 0; k < recorders.size(); ++k) recorder_values[k] = recorders[k].value(solver);
+    for (std::size_t k = 0; k < recorders.size(); ++k) recorder_values[k] = recorders[k].value(*solver);
     return recorder_values;
   };
   // Where each recorder with a stop bound starts (the initial state, also for a restart), for the
@@ -156,26 +194,36 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   std::vector<double> recorder_start(recorders.size(), 0.0);
   for (std::size_t k = 0; k < recorders.size(); ++k)
     if ((recorders[k].config().stop_above || recorders[k].config().stop_below) && !recorders[k].from_solver())
-      recorder_start[k] = recorders[k].value(solver);
+      recorder_start[k] = recorders[k].value(*solver);
   if (options.write_output) check_output_paths(config, dir, ck_path);
   RunProgress start;
   if (options.restart) {
-    start = read_checkpoint<D>(*options.restart, model);
+    start = read_checkpoint<D>(*options.restart, model, [&](const RunProgress& r) {
+      if (staged) restore_stage(model, config, static_cast<std::size_t>(r.stage), r.stage_starts);
+    });
     // Past the end there is nothing to run, and a last frame there would lie beyond time.end.
-    if (start.time > end * (1.0 + 1e-12))
+    if (!staged && start.time > end * (1.0 + 1e-12))
       throw InputError(fmt::format("{}: the checkpoint {} is at t = {:.9g} s, past time.end = {:.9g} s: nothing to "
                                    "run; give a later time.end (--set time.end=...)",
                                    config.source, *options.restart, start.time, end));
-    solver.resume(start.time, start.steps);
+    if (staged && start.stage_done && static_cast<std::size_t>(start.stage) >= last_stage)
+      throw InputError(fmt::format("{}: the checkpoint {} is at the end of the last stage (\"{}\", t = {:.9g} s): "
+                                   "nothing to run",
+                                   config.source, *options.restart, config.stages[static_cast<std::size_t>(start.stage)].name,
+                                   start.time));
+    stage = static_cast<std::size_t>(start.stage);
+    solver->resume(start.time, start.steps);
   }
   // Check the first step before anything is written: a refused dt leaves the directory untouched.
-  double dt = next_time_step(tc, critical_time_step<D>(model.particles, model.materials, model.grid.h), 0, config.source);
-  check_run_length(config, dt, start.time);
+  double dt = next_time_step(stage_config().time,
+                             critical_time_step<D>(model.particles, model.materials, model.grid.h), 0, config.source);
+  if (!staged) check_run_length(config, dt, start.time);
   if (options.restart && start.steps > 0) dt = start.dt;  // only for a final row; every later step recomputes it
 
   std::optional<OutputWriter<D>> out;
   if (options.write_output) {
-    out.emplace(model, oc, dir, recorder_names, options.restart ? &start.output : nullptr);
+    out.emplace(model, oc, dir, recorder_names, options.restart ? &start.output : nullptr, staged);
+    out->set_stage(static_cast<int>(stage) + 1);
     prepare_checkpoint_directory(ck_path);  // a checkpoint hours later must not be the first to find it unwritable
   }
   // Frames are labelled by time, or by the value of the output.frame_label recorder.
@@ -184,15 +232,15 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   auto write_frame = [&](double time) {
     ContactPoints points;
     if (contact)
-      for (const auto& n : solver.contact_nodes()) {
+      for (const auto& n : solver->contact_nodes()) {
         std::array<double, 3> x{}, normal{}, force{};
         for (int d = 0; d < D; ++d) x[d] = n.x[d], normal[d] = n.normal[d], force[d] = n.force[d];
         points.x.push_back(x), points.normal.push_back(normal), points.force.push_back(force), points.kind.push_back(n.kind);
       }
-    out->frame(label ? label->value(solver) : time, contact ? &points : nullptr);
+    out->frame(label ? label->value(*solver) : time, contact ? &points : nullptr);
   };
   if (out && !options.restart) {
-    out->global_row(0.0, 0, 0.0, step_report(solver), recorder_row());
+    out->global_row(0.0, 0, 0.0, step_report(*solver), recorder_row());
     write_frame(0.0);
   }
   std::string stopped_by;
@@ -205,12 +253,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   auto next_label = [&](double value) {
     label_index = static_cast<std::int64_t>(std::floor(value / oc.label_interval)) + 1;
   };
-  if (!options.restart && label && oc.label_interval > 0.0) next_label(label->value(solver));
+  if (!options.restart && label && oc.label_interval > 0.0) next_label(label->value(*solver));
   auto frame_time = [&](std::int64_t k) { return oc.interval > 0 ? std::min(end, static_cast<double>(k) * oc.interval) : end; };
-  // A restart may come with another output interval or end time: skip frame times already past.
-  while (frame_time(frame_index) <= start.time && frame_time(frame_index) < end) ++frame_index;
-  double next_frame = frame_time(frame_index);
-  double next_row = oc.global_interval * static_cast<double>(row_index);
   double last_frame = start.last_frame, last_row = start.last_row;
   auto last_flush = clock::now();
   auto last_checkpoint = clock::now();
@@ -218,115 +262,248 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   if (options.restart) saved = {start.steps, *options.restart};
   const auto checkpoint_wall = std::chrono::duration<double>(60.0 * kc.every_minutes);
 
+  // The stage's own bookkeeping (RunProgress keeps it in a checkpoint).
+  std::vector<double> stage_starts = start.stage_starts;
+  std::vector<std::int64_t> stage_start_steps = start.stage_start_steps;
+  double peak_kinetic = start.stage_peak_kinetic;
+  std::int64_t stage_first_frame = start.stage_first_frame;
+  bool stage_done = false;
+  double settles = -std::numeric_limits<double>::infinity();
+  std::int64_t step_limit = 0;  // absolute step count at which the stage (or run) stops; 0: none
+  std::optional<double> equilibrium_ratio, kinetic_ratio;
+  double latest_kinetic_ratio = std::numeric_limits<double>::quiet_NaN();
+  std::vector<StageReport> reports;
+
   // The state at the end of a step, before any end-of-run extras, so that a restart from it
   // continues exactly as the run would have.
   auto save = [&] {
     if (!out) return;
     out->flush_global(true);  // the rows the checkpoint names are on disk before it
     RunProgress now;
-    now.time = solver.time(), now.steps = solver.steps(), now.dt = dt;
+    now.time = solver->time(), now.steps = solver->steps(), now.dt = dt;
     now.frame_index = frame_index, now.row_index = row_index, now.label_index = label_index;
     now.last_frame = last_frame, now.last_row = last_row, now.output = out->history();
+    now.stage = static_cast<std::int64_t>(stage), now.stage_done = stage_done;
+    now.stage_starts = stage_starts, now.stage_start_steps = stage_start_steps;
+    now.stage_peak_kinetic = peak_kinetic, now.stage_first_frame = stage_first_frame;
     write_checkpoint<D>(ck_path, model, now);
     last_checkpoint = clock::now();
-    saved = {solver.steps(), ck_path};
+    saved = {solver->steps(), ck_path};
   };
 
+  // A restart at the end of a stage begins the next one.
+  bool resuming = options.restart.has_value();
+  if (resuming && start.stage_done) ++stage, resuming = false;
   try {
-    while (solver.time() < end * (1.0 - 1e-12)) {
-      if (tc.max_steps > 0 && solver.steps() >= tc.max_steps) break;
-      const double t = solver.time();
-      if (solver.steps() > 0) {
+    for (;; ++stage) {
+      const double t0 = solver->time();
+      if (!resuming) {
+        if (staged && stage > 0) {
+          change_particles(model, config, stage);
+          reconfigure(model, config, stage, t0);
+          const std::int64_t steps = solver->steps();
+          solver.emplace(model);  // its per-step arrays start again from the new model, as on a restart
+          solver->resume(t0, steps);
+        }
+        stage_starts.resize(stage + 1), stage_start_steps.resize(stage + 1);
+        stage_starts[stage] = t0, stage_start_steps[stage] = solver->steps();
+        peak_kinetic = 0.0;
+        // The stage's frames open with the one of its start: the run's first, or the previous stage's last.
+        stage_first_frame = out ? std::max<std::int64_t>(0, static_cast<std::int64_t>(out->frames_written()) - 1) : 0;
+      }
+      resuming = false;
+      stage_done = false;
+      if (out) out->set_stage(static_cast<int>(stage) + 1);
+      const Config& sc = stage_config();
+      const TimeConfig& tc = sc.time;
+      std::string stage_end;  // what ended the stage
+      if (staged) {
+        const StageEnd& e = config.stages[stage].end;
+        end = e.duration ? stage_starts[stage] + *e.duration : std::numeric_limits<double>::infinity();
+        const std::int64_t from = stage_start_steps[stage];
+        step_limit = e.steps > 0 ? from + e.steps : 0;
+        if (e.max_steps > 0) step_limit = step_limit > 0 ? std::min(step_limit, from + e.max_steps) : from + e.max_steps;
+        equilibrium_ratio = e.unbalanced_force_ratio, kinetic_ratio = e.kinetic_energy_ratio;
+        settles = stage_settles_at(model, config, stage);
+        if (e.duration && e.max_steps == 0 && e.steps == 0) {
+          Config c = sc;
+          c.time.end = end;
+          check_run_length(c, next_time_step(tc, critical_time_step<D>(model.particles, model.materials, model.grid.h),
+                                             0, config.source),
+                           solver->time());
+        }
+      } else {
+        step_limit = tc.max_steps;
+      }
+      // A restart may come with another output interval or end time: skip frame times already past.
+      while (frame_time(frame_index) <= solver->time() && frame_time(frame_index) < end) ++frame_index;
+      double next_frame = frame_time(frame_index);
+      double next_row = oc.global_interval * static_cast<double>(row_index);
+
+      while (solver->time() < end * (1.0 - 1e-12)) {
+        if (step_limit > 0 && solver->steps() >= step_limit) {
+          const StageEnd* e = staged ? &config.stages[stage].end : nullptr;
+          stage_end = e && e->steps > 0 && solver->steps() >= stage_start_steps[stage] + e->steps ? "steps" : "max_steps";
+          break;
+        }
+        const double t = solver->time();
+        if (solver->steps() > 0) {
+          try {
+            dt = next_time_step(tc, critical_time_step<D>(model.particles, model.materials, model.grid.h),
+                                solver->steps(), config.source);
+          } catch (const RunError& e) {
+            const RunError located(fmt::format("step {} (t = {:.6g} s): {}: {}", solver->steps() + 1, solver->time(),
+                                               solver->describe_particle(limiting_particle(model.particles, model.materials)), e.what()),
+                                   e.fault);
+            // The state is still that of a good step: worth saving for a restart with a smaller dt.
+            if (e.fault == Fault::UnstableStep && out) {
+              save();
+              if (solver->time() > last_frame) write_frame(solver->time());
+            }
+            throw located;
+          }
+        }
+        // Land exactly on the next frame (or the end); split the approach in two equal steps rather
+        // than leave a sliver of a step.
+        const double target = std::min(end, next_frame);
+        if (t + dt * (1.0 + 1e-6) >= target) dt = target - t;
+        else if (t + 2.0 * dt > target) dt = 0.5 * (target - t);
         try {
-          dt = next_time_step(tc, critical_time_step<D>(model.particles, model.materials, model.grid.h),
-                              solver.steps(), config.source);
+          solver->step(dt);
         } catch (const RunError& e) {
-          const RunError located(fmt::format("step {} (t = {:.6g} s): {}: {}", solver.steps() + 1, solver.time(),
-                                             solver.describe_particle(limiting_particle(model.particles, model.materials)), e.what()),
-                                 e.fault);
-          // The state is still that of a good step: worth saving for a restart with a smaller dt.
-          if (e.fault == Fault::UnstableStep && out) {
-            save();
-            if (solver.time() > last_frame) write_frame(solver.time());
-          }
-          throw located;
+          // A particle outside the grid or collapsed is worth seeing; a non-finite state is not, and
+          // none of them can be stepped on, so no checkpoint.
+          if (out && e.fault != Fault::NonFinite) write_frame(solver->time() + dt);
+          if (staged)
+            throw RunError(fmt::format("stage {} \"{}\": {}", stage + 1, config.stages[stage].name, e.what()), e.fault);
+          throw;
         }
-      }
-      // Land exactly on the next frame (or the end); split the approach in two equal steps rather
-      // than leave a sliver of a step.
-      const double target = std::min(end, next_frame);
-      if (t + dt * (1.0 + 1e-6) >= target) dt = target - t;
-      else if (t + 2.0 * dt > target) dt = 0.5 * (target - t);
-      try {
-        solver.step(dt);
-      } catch (const RunError& e) {
-        // A particle outside the grid or collapsed is worth seeing; a non-finite state is not, and
-        // none of them can be stepped on, so no checkpoint.
-        if (out && e.fault != Fault::NonFinite) write_frame(solver.time() + dt);
-        throw;
-      }
-      const double now = solver.time();
-      const double tol = 1e-6 * dt;  // above the round-off of summing thousands of steps
-      if (after_step) after_step(solver);
-      if (out) {
-        if (oc.global_interval <= 0.0 || now >= next_row - tol) {
-          out->global_row(now, solver.steps(), dt, step_report(solver), recorder_row());
-          last_row = now;
-          if (oc.global_interval > 0.0) {
-            row_index = static_cast<std::int64_t>(std::floor((now + tol) / oc.global_interval)) + 1;
-            next_row = oc.global_interval * static_cast<double>(row_index);
-          }
-        }
-        if (clock::now() - last_flush > std::chrono::seconds(30)) {
-          out->flush_global();
-          last_flush = clock::now();
-        }
-      }
-      const double label_value = label && oc.label_interval > 0.0 ? label->value(solver) : 0.0;
-      const bool by_label = label_due(label_value);
-      if (now >= next_frame - tol || by_label) {
+        const double now = solver->time();
+        const double tol = 1e-6 * dt;  // above the round-off of summing thousands of steps
+        if (after_step) after_step(*solver);
         if (out) {
-          write_frame(now);
-          last_frame = now;
+          if (oc.global_interval <= 0.0 || now >= next_row - tol) {
+            out->global_row(now, solver->steps(), dt, step_report(*solver), recorder_row());
+            last_row = now;
+            if (oc.global_interval > 0.0) {
+              row_index = static_cast<std::int64_t>(std::floor((now + tol) / oc.global_interval)) + 1;
+              next_row = oc.global_interval * static_cast<double>(row_index);
+            }
+          }
+          if (clock::now() - last_flush > std::chrono::seconds(30)) {
+            out->flush_global();
+            last_flush = clock::now();
+          }
         }
-        while (next_frame <= now + tol && next_frame < end) next_frame = frame_time(++frame_index);
-        if (by_label) next_label(label_value);
-      }
-      Progress progress;
-      progress.step = solver.steps(), progress.time = now, progress.end_time = end, progress.dt = dt;
-      progress.frames = out ? out->frames_written() : 0;
-      progress.fraction = end > 0.0 ? std::clamp(now / end, 0.0, 1.0) : 1.0;
-      for (std::size_t k = 0; k < recorders.size(); ++k) {
-        const auto& r = recorders[k];
-        const auto& rc = r.config();
-        if (!rc.stop_above && !rc.stop_below) continue;  // evaluated on output rows only
-        const double value = r.value(solver);
-        // The way from the start value to each bound that lies ahead of it. Not for the
-        // unbalanced-force ratio: it has no start value (NaN before the first step) and decays
-        // neither linearly nor monotonically, so the time fraction stands for it.
-        for (const auto& [bound, sign] : {std::pair{rc.stop_above, 1.0}, std::pair{rc.stop_below, -1.0}}) {
-          if (!bound || r.from_solver() || sign * (*bound - recorder_start[k]) <= 0.0) continue;
-          const double f = std::clamp((value - recorder_start[k]) / (*bound - recorder_start[k]), 0.0, 1.0);
-          if (f > progress.fraction)
-            progress.fraction = f, progress.leader = rc.name, progress.leader_value = value, progress.leader_bound = *bound;
+        const double label_value = label && oc.label_interval > 0.0 ? label->value(*solver) : 0.0;
+        const bool by_label = label_due(label_value);
+        if (now >= next_frame - tol || by_label) {
+          if (out) {
+            write_frame(now);
+            last_frame = now;
+          }
+          while (next_frame <= now + tol && next_frame < end) next_frame = frame_time(++frame_index);
+          if (by_label) next_label(label_value);
         }
-        if (stopped_by.empty()) stopped_by = r.stop_reason(value);
+        Progress progress;
+        progress.step = solver->steps(), progress.time = now, progress.end_time = end, progress.dt = dt;
+        progress.frames = out ? out->frames_written() : 0;
+        progress.fraction = std::isfinite(end) && end > 0.0 ? std::clamp((now - stage_starts[stage]) / (end - stage_starts[stage]), 0.0, 1.0)
+                            : 0.0;
+        if (step_limit > 0)
+          progress.fraction = std::max(progress.fraction, std::clamp(static_cast<double>(solver->steps() - stage_start_steps[stage]) /
+                                                                         static_cast<double>(step_limit - stage_start_steps[stage]),
+                                                                     0.0, 1.0));
+        if (staged) {
+          progress.stage = static_cast<int>(stage) + 1, progress.stages = static_cast<int>(config.stages.size());
+          progress.stage_name = config.stages[stage].name;
+        }
+        for (std::size_t k = 0; k < recorders.size(); ++k) {
+          const auto& r = recorders[k];
+          const auto& rc = r.config();
+          if (!rc.stop_above && !rc.stop_below) continue;  // evaluated on output rows only
+          const double value = r.value(*solver);
+          // The way from the start value to each bound that lies ahead of it. Not for the
+          // unbalanced-force ratio: it has no start value (NaN before the first step) and decays
+          // neither linearly nor monotonically, so the time fraction stands for it.
+          for (const auto& [bound, sign] : {std::pair{rc.stop_above, 1.0}, std::pair{rc.stop_below, -1.0}}) {
+            if (!bound || r.from_solver() || sign * (*bound - recorder_start[k]) <= 0.0) continue;
+            const double f = std::clamp((value - recorder_start[k]) / (*bound - recorder_start[k]), 0.0, 1.0);
+            if (f > progress.fraction)
+              progress.fraction = f, progress.leader = rc.name, progress.leader_value = value, progress.leader_bound = *bound;
+          }
+          if (stopped_by.empty()) stopped_by = r.stop_reason(value);
+        }
+        // The stage's own ends: equilibrium (once its functions of time have settled) and a recorder.
+        if (staged) {
+          const StageEnd& e = config.stages[stage].end;
+          if (kinetic_ratio) {
+            const double ke = global_quantities<D>(model).kinetic_energy;
+            peak_kinetic = std::max(peak_kinetic, ke);
+            latest_kinetic_ratio = peak_kinetic > 0.0 ? ke / peak_kinetic : 0.0;
+          }
+          if (e.equilibrium() && now >= settles) {
+            const bool force_ok = !equilibrium_ratio || solver->unbalanced_force_ratio() < *equilibrium_ratio;
+            const bool energy_ok = !kinetic_ratio || latest_kinetic_ratio < *kinetic_ratio;
+            if (force_ok && energy_ok) stage_end = "equilibrium";
+          }
+          if (e.recorder >= 0 && stage_end.empty()) {
+            const double v = recorders[static_cast<std::size_t>(e.recorder)].value(*solver);
+            if ((e.above && v >= *e.above) || (e.below && v <= *e.below))
+              stage_end = fmt::format("recorder {}", recorders[static_cast<std::size_t>(e.recorder)].config().name);
+          }
+          if (!stage_end.empty()) progress.fraction = 1.0;
+        }
+        if (!stopped_by.empty()) progress.fraction = 1.0;
+        if (options.on_progress) options.on_progress(progress);
+        if (const int sig = pending_interrupt()) {
+          save();
+          const std::string message =
+              out ? fmt::format("signal {} at step {} (t = {:.6g} s); the state is saved in {}; continue with {} --restart {}",
+                                sig, solver->steps(), now, ck_path, options.resume_command, shell_word(ck_path))
+                  : fmt::format("signal {} at step {} (t = {:.6g} s)", sig, solver->steps(), now);
+          interrupt_saved(message.c_str());  // a signal from now on exits at once, with this message
+          throw Interrupted(message, sig);
+        }
+        if (!stopped_by.empty() || !stage_end.empty()) break;
+        if ((kc.every_steps > 0 && solver->steps() % kc.every_steps == 0) ||
+            (kc.every_minutes > 0.0 && clock::now() - last_checkpoint >= checkpoint_wall))
+          save();
       }
-      if (!stopped_by.empty()) progress.fraction = 1.0;
-      if (options.on_progress) options.on_progress(progress);
-      if (const int sig = pending_interrupt()) {
-        save();
-        const std::string message =
-            out ? fmt::format("signal {} at step {} (t = {:.6g} s); the state is saved in {}; continue with {} --restart {}",
-                              sig, solver.steps(), now, ck_path, options.resume_command, shell_word(ck_path))
-                : fmt::format("signal {} at step {} (t = {:.6g} s)", sig, solver.steps(), now);
-        interrupt_saved(message.c_str());  // a signal from now on exits at once, with this message
-        throw Interrupted(message, sig);
+      if (!staged) break;
+      // The end of a stage: its last row and frame, its row of stages.csv and .pvd, a checkpoint.
+      if (stage_end.empty()) stage_end = stopped_by.empty() ? "duration" : "stopped";
+      StageReport rep;
+      rep.stage = static_cast<int>(stage) + 1, rep.stages = static_cast<int>(config.stages.size());
+      rep.name = config.stages[stage].name, rep.end = stage_end;
+      rep.start_time = stage_starts[stage], rep.end_time = solver->time();
+      rep.start_step = stage_start_steps[stage], rep.end_step = solver->steps();
+      rep.unbalanced_force_ratio = solver->unbalanced_force_ratio();
+      rep.kinetic_energy_ratio = latest_kinetic_ratio;
+      rep.equilibrium_asked = config.stages[stage].end.equilibrium();
+      if (out) {
+        if (solver->time() > last_row) {
+          out->global_row(solver->time(), solver->steps(), dt, step_report(*solver), recorder_row());
+          last_row = solver->time();
+        }
+        if (solver->time() > last_frame || out->frames_written() == 0) {
+          write_frame(solver->time());
+          last_frame = solver->time();
+        }
+        StageRow row;
+        row.stage = rep.stage, row.name = rep.name, row.end = rep.end;
+        row.start_time = rep.start_time, row.end_time = rep.end_time;
+        row.start_step = rep.start_step, row.end_step = rep.end_step;
+        row.unbalanced_force_ratio = rep.unbalanced_force_ratio, row.kinetic_energy_ratio = rep.kinetic_energy_ratio;
+        row.first_frame = stage_first_frame;
+        row.last_frame = static_cast<std::int64_t>(out->frames_written()) - 1;
+        out->stage_row(row);
       }
-      if (!stopped_by.empty()) break;
-      if ((kc.every_steps > 0 && solver.steps() % kc.every_steps == 0) ||
-          (kc.every_minutes > 0.0 && clock::now() - last_checkpoint >= checkpoint_wall))
-        save();
+      reports.push_back(rep);
+      if (options.on_stage_end) options.on_stage_end(rep);
+      stage_done = true;
+      save();
+      if (!stopped_by.empty() || stage >= last_stage) break;
     }
   } catch (const Interrupted&) {
     throw;
@@ -335,7 +512,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
     if (saved.first < 0) throw;
     throw RunError(fmt::format("{}\nthe latest checkpoint is step {}: {} (continue with {}{} --restart {})", e.what(),
                                saved.first, saved.second, options.resume_command,
-                               e.fault == Fault::UnstableStep && tc.dt ? fmt::format(" --set time.dt={:.3g}", 0.5 * *tc.dt)
+                               e.fault == Fault::UnstableStep && stage_config().time.dt
+                                   ? fmt::format(" --set time.dt={:.3g}", 0.5 * *stage_config().time.dt)
                                    : std::string{},
                                shell_word(saved.second)),
                    e.fault);
@@ -344,8 +522,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
       if (out) out->flush_global();  // the CSVs are small: they may still fit where a frame did not
     } catch (const OutputError&) {
     }
-    throw OutputError(fmt::format("step {} (t = {:.6g} s): {}; the files written before are complete{}", solver.steps(),
-                                  solver.time(), e.what(),
+    throw OutputError(fmt::format("step {} (t = {:.6g} s): {}; the files written before are complete{}", solver->steps(),
+                                  solver->time(), e.what(),
                                   saved.first < 0 ? std::string{}
                                                   : fmt::format(", and the latest checkpoint is step {}: {}",
                                                                 saved.first, saved.second)));
@@ -353,20 +531,21 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
     if (out) out->flush_global();
     throw;
   }
-  if (kc.enabled()) save();
+  if (!staged && kc.enabled()) save();
   if (out) {
-    if (solver.time() > last_row) out->global_row(solver.time(), solver.steps(), dt, step_report(solver), recorder_row());  // the final state
-    if (solver.time() > last_frame) write_frame(solver.time());
+    if (solver->time() > last_row) out->global_row(solver->time(), solver->steps(), dt, step_report(*solver), recorder_row());  // the final state
+    if (solver->time() > last_frame) write_frame(solver->time());
     out->flush_global();
   }
   RunSummary s;
-  s.steps = solver.steps();
-  s.time = solver.time();
+  s.steps = solver->steps();
+  s.time = solver->time();
   s.wall_seconds = std::chrono::duration<double>(clock::now() - wall_start).count();
   s.frames = out ? out->frames_written() : 0;
   s.directory = dir;
   s.stopped_by = stopped_by;
-  s.checkpoint = kc.enabled() && out ? ck_path : std::string{};
+  s.checkpoint = (kc.enabled() || staged) && out ? ck_path : std::string{};
+  s.stages = reports;
   return s;
 }
 

@@ -22,6 +22,20 @@ struct Progress {
   double fraction = 0.0;
   std::string leader;  // the recorder that gives `fraction`, or "" when the time does
   double leader_value = 0.0, leader_bound = 0.0;
+  // Staged runs: the stage (1-based) of `stages` and its name; `fraction` is then the stage's.
+  int stage = 1, stages = 1;
+  std::string stage_name;
+};
+
+// How a stage of a staged run ended (a row of stages.csv).
+struct StageReport {
+  int stage = 1, stages = 1;
+  std::string name;
+  std::string end;  // "duration", "steps", "equilibrium", "recorder NAME", "max_steps", or "stopped" (a recorder's stop bound)
+  double start_time = 0.0, end_time = 0.0;
+  std::int64_t start_step = 0, end_step = 0;
+  double unbalanced_force_ratio = 0.0, kinetic_energy_ratio = 0.0;
+  bool equilibrium_asked = false;  // the stage was to end in equilibrium
 };
 
 struct RunOptions {
@@ -32,6 +46,9 @@ struct RunOptions {
   // The command that continues this run from its checkpoint, less the checkpoint: the program,
   // the input, -o and every --set of this run ("tsuchi run m.toml -o out --set ..."), for messages.
   std::string resume_command = "tsuchi run ...";
+  std::function<void(const StageReport&)> on_stage_end;  // staged runs: after each stage
+  // Stop after this stage (0-based) of a staged run; -1: run them all (`tsuchi fos` stops after its stage).
+  int last_stage = -1;
 };
 
 struct RunSummary {
@@ -42,6 +59,7 @@ struct RunSummary {
   std::string directory;
   std::string stopped_by;  // the recorder bound that ended the run early, if one did
   std::string checkpoint;  // the final checkpoint, when the input asks for checkpoints
+  std::vector<StageReport> stages;  // staged runs: the stages ended by this process
 };
 
 // A word for a POSIX shell: as it is when it holds nothing the shell would read, else in single

@@ -1,5 +1,5 @@
 // tsuchi: the command-line program. `tsuchi run FILE` runs a model, `tsuchi check FILE` validates
-// it and prints what a run would do, `tsuchi element FILE` drives one material point along a
+// it and prints what a run would do, `tsuchi fos FILE` finds a factor of safety by strength reduction, `tsuchi element FILE` drives one material point along a
 // lab-test path. Exit codes (core/errors.hpp): 0 ok, 1 usage, 2 input, 3 run fault, 4 output,
 // 5 internal error, 6 non-finite state, 7 particle left the grid, 8 volume collapse, 9 unstable
 // time step, 128 + signal when interrupted (the state is saved first).
@@ -13,6 +13,7 @@
 #include "tsuchi/io/output_writer.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
+#include "tsuchi/run/factor_of_safety.hpp"
 #include "tsuchi/run/recorder.hpp"
 #include "tsuchi/run/simulation.hpp"
 #include "tsuchi/solver/time_step.hpp"
@@ -236,6 +237,30 @@ int run(const Config& c, const Options& o) {
   return exit_code::ok;
 }
 
+// `tsuchi fos FILE`: the analysis, then the factor of safety by strength reduction.
+template <int D>
+int fos(const Config& c, const Options& o) {
+  FosOptions fo;
+  fo.output_directory = o.output.empty() ? c.output.directory : o.output;
+  fo.quiet = o.quiet;
+  fo.on_note = [&](const std::string& note) { fmt::print("{}\n", note); };
+  fo.on_trial = [&](const FosTrial& t) {
+    fmt::print("trial {:>3}  F = {:<10.6g} {:<6} ({}) after {} steps, largest displacement {:.4g} m, ratio {:.3g}, {:.1f} s\n",
+               t.index, t.factor, t.failed ? "fails" : "stands", t.reason, t.steps, t.max_displacement,
+               t.unbalanced_force_ratio, t.wall_seconds);
+  };
+  if (!o.quiet) {
+    const Model<D> m = build_model<D>(c);
+    make_recorders<D>(c, m);
+    print_summary<D>(c, m, fo.output_directory);
+  }
+  const FosResult r = factor_of_safety<D>(c, fo);
+  fmt::print("bracket: stands at F = {:.6g}, fails at F = {:.6g} ({} trials); trials, stable.vtu and mechanism.vtu in {}\n",
+             r.lower, r.upper, r.trials.size(), r.directory);
+  fmt::print("factor of safety: {:.4g}\n", r.factor);
+  return exit_code::ok;
+}
+
 // The most threads a run takes: the bound of --threads, also applied to OMP_NUM_THREADS (libgomp
 // crashes when asked for 100,000).
 constexpr int max_threads = 1024;
@@ -252,12 +277,13 @@ void clamp_environment_threads() {
   omp_set_num_threads(max_threads);
 }
 
-int dispatch(bool run_it, const Options& o) {
+int dispatch(bool run_it, const Options& o, bool fos_it = false) {
   if (o.threads > 0) omp_set_num_threads(o.threads);
   const Config c = read_config_file(o.file, o.overrides);
   for (const auto& w : c.warnings) fmt::print(stderr, "warning: {}\n", w);
   // A busy output directory stops a run before it builds its model (which may take long).
-  if (run_it) DirectoryLock::refuse_if_held(o.output.empty() ? c.output.directory : o.output);
+  if (run_it || fos_it) DirectoryLock::refuse_if_held(o.output.empty() ? c.output.directory : o.output);
+  if (fos_it) return c.dimension == 2 ? fos<2>(c, o) : fos<3>(c, o);
   if (c.dimension == 2) return run_it ? run<2>(c, o) : check<2>(c);
   return run_it ? run<3>(c, o) : check<3>(c);
 }
@@ -288,6 +314,14 @@ int main(int argc, char** argv) {
   check_cmd->add_option("file", o.file, "Input file (TOML)")->required();
   check_cmd->add_option("-s,--set", o.overrides, "Override an input key")
       ->allow_extra_args(false);
+  auto* fos_cmd = app.add_subcommand(
+      "fos", "Run the analysis, then find its factor of safety by strength reduction ([fos] in the input)");
+  fos_cmd->add_option("file", o.file, "Input file (TOML) with a [fos] table")->required();
+  fos_cmd->add_option("-o,--output", o.output, "Output directory (overrides output.directory); the search writes to its fos/");
+  fos_cmd->add_option("-s,--set", o.overrides, "Override an input key, e.g. --set fos.tolerance=0.005")->allow_extra_args(false);
+  fos_cmd->add_flag("-q,--quiet", o.quiet, "No summary");
+  fos_cmd->add_option("-j,--threads", o.threads, "Threads (default: OMP_NUM_THREADS, else every core); results do not depend on it")
+      ->check(CLI::Range(1, max_threads));
   tsuchi::app::ElementOptions eo;
   auto* element_cmd =
       app.add_subcommand("element", "Drive one material point along a stress/strain path (a lab test) to CSV");
@@ -310,7 +344,7 @@ int main(int argc, char** argv) {
   try {
     if (element_cmd->parsed()) return tsuchi::app::run_element_command(eo);
     if (run_cmd->parsed()) install_interrupt_handlers();
-    return dispatch(run_cmd->parsed(), o);
+    return dispatch(run_cmd->parsed(), o, fos_cmd->parsed());
   } catch (const InputError& e) {
     fmt::print(stderr, "\nerror in input: {}\n", e.what());
     return exit_code::input;

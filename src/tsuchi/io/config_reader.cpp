@@ -596,6 +596,7 @@ std::uint64_t fingerprint(const toml::table& root) {
   if (auto* m = t.get_as<toml::table>("model")) m->erase("title");
   if (auto* time = t.get_as<toml::table>("time")) {
     for (const char* k : {"end", "max_steps", "dt", "courant"}) time->erase(k);
+    if (time->empty()) t.erase("time");  // a staged input may have none, until --set makes one
   }
   if (auto* recs = t.get_as<toml::array>("recorders"))
     for (auto& r : *recs)

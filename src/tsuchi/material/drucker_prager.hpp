@@ -25,6 +25,7 @@
 // flow lambda_s dg_s/dsigma + lambda_t dg_t/dsigma, which is C (sigma_trial - sigma).
 #include "tsuchi/core/tensor.hpp"
 #include "tsuchi/material/angle_scaling.hpp"
+#include "tsuchi/material/strength_reduction.hpp"
 #include "tsuchi/material/drucker_prager_return.hpp"
 #include "tsuchi/material/linear_elastic.hpp"
 #include "tsuchi/material/mohr_coulomb.hpp"  // YieldMode, PlasticPoint
@@ -91,6 +92,15 @@ struct DruckerPrager {
     s.sigma_t = tension * a.sin <= c * a.cos ? tension : c * a.cos / a.sin;
     return s;
   }
+  // The `tsuchi fos` hook (material.hpp): c, phi, psi and the tension reduced by F (strength_reduction.hpp),
+  // the cone then matched to the reduced Mohr-Coulomb parameters as the input's `match` says.
+  DruckerPrager reduced(double F, bool reduce_dilatancy) const {
+    DruckerPrager m = *this;
+    const ReducedStrength r = reduce_strength(cohesion, phi, psi, tension, F, reduce_dilatancy);
+    m.cohesion = r.cohesion, m.phi = r.phi, m.psi = r.psi, m.tension = r.tension;
+    return m;
+  }
+
   DruckerPragerStrength strength(double c_scale = 1.0, double phi_scale = 1.0) const {
     return strength(c_scale, phi_scale, shared());
   }

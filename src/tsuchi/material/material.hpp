@@ -23,6 +23,9 @@
 //                                     run builds its materials (a strength that depends on the
 //                                     mesh, like a softening regularised by a band width; the
 //                                     element driver has no grid and uses the model as read),
+//   M reduced(double F, bool reduce_dilatancy) const;  the model with its strength divided by F
+//                                     (material/strength_reduction.hpp), for `tsuchi fos`; a model
+//                                     without it is not reduced (and an input with none is refused),
 //   static constexpr bool reads_own_elasticity;   true: the material reader reads no moduli and
 //                                     passes a default LinearElastic (the model's reader reads its own),
 // and

@@ -17,6 +17,7 @@
 #include "tsuchi/core/principal.hpp"
 #include "tsuchi/core/principal_frame.hpp"
 #include "tsuchi/material/angle_scaling.hpp"
+#include "tsuchi/material/strength_reduction.hpp"
 #include "tsuchi/material/linear_elastic.hpp"
 #include "tsuchi/material/mohr_coulomb_return.hpp"
 
@@ -87,6 +88,14 @@ struct MohrCoulomb {
   Shared shared() const {
     const double ss = std::sin(psi);
     return {std::sin(phi), std::cos(phi), (1.0 + ss) / (1.0 - ss)};
+  }
+
+  // The `tsuchi fos` hook (material.hpp): c, phi, psi and sigma_t reduced by F (strength_reduction.hpp).
+  MohrCoulomb reduced(double F, bool reduce_dilatancy) const {
+    MohrCoulomb m = *this;
+    const ReducedStrength r = reduce_strength(cohesion, phi, psi, tension, F, reduce_dilatancy);
+    m.cohesion = r.cohesion, m.phi = r.phi, m.psi = r.psi, m.tension = r.tension;
+    return m;
   }
 
   Strength strength(double c_scale = 1.0, double phi_scale = 1.0) const {

@@ -24,6 +24,7 @@
 #include "tsuchi/material/mohr_coulomb.hpp"
 #include "tsuchi/material/softening_table.hpp"
 
+#include <limits>
 #include <fmt/format.h>
 
 #include <cmath>
@@ -65,6 +66,19 @@ struct MohrCoulombSoftening {
     const double f = *softening_length / h;
     m.cohesion = cohesion.scaled(f), m.phi = phi.scaled(f), m.psi = psi.scaled(f);
     m.cell_size = h;
+    return m;
+  }
+
+  // The `tsuchi fos` hook (material.hpp): every point of the c and phi tables reduced by F
+  // (strength_reduction.hpp); psi's reduced too with reduce_dilatancy, else capped at the smallest
+  // reduced phi of the table; the tension strength with c.
+  MohrCoulombSoftening reduced(double F, bool reduce_dilatancy) const {
+    MohrCoulombSoftening m = *this;
+    for (double& c : m.cohesion.value) c /= F;
+    double lowest = std::numeric_limits<double>::infinity();
+    for (double& a : m.phi.value) a = reduced_angle(a, F), lowest = std::min(lowest, a);
+    for (double& a : m.psi.value) a = reduce_dilatancy ? reduced_angle(a, F) : std::min(a, lowest);
+    m.base = base.reduced(F, reduce_dilatancy);
     return m;
   }
 

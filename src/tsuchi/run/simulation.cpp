@@ -293,6 +293,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
 
   // A restart at the end of a stage begins the next one.
   bool resuming = options.restart.has_value();
+  bool run_limit_hit = false;
   if (resuming && start.stage_done) ++stage, resuming = false;
   try {
     for (;; ++stage) {
@@ -341,6 +342,12 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
       double next_row = oc.global_interval * static_cast<double>(row_index);
 
       while (solver->time() < end * (1.0 - 1e-12)) {
+        // time.max_steps of a staged run: the whole run stops there, in whatever stage (a batch slot's
+        // end; a restart from its checkpoint continues the stage).
+        if (staged && tc.max_steps > 0 && solver->steps() >= tc.max_steps) {
+          run_limit_hit = true;
+          break;
+        }
         if (step_limit > 0 && solver->steps() >= step_limit) {
           const StageEnd* e = staged ? &config.stages[stage].end : nullptr;
           stage_end = e && e->steps > 0 && solver->steps() >= stage_start_steps[stage] + e->steps ? "steps" : "max_steps";
@@ -470,7 +477,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
             (kc.every_minutes > 0.0 && clock::now() - last_checkpoint >= checkpoint_wall))
           save();
       }
-      if (!staged) break;
+      if (!staged || run_limit_hit) break;
       // The end of a stage: its last row and frame, its row of stages.csv and .pvd, a checkpoint.
       if (stage_end.empty()) stage_end = stopped_by.empty() ? "duration" : "stopped";
       StageReport rep;
@@ -531,7 +538,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
     if (out) out->flush_global();
     throw;
   }
-  if (!staged && kc.enabled()) save();
+  if ((!staged && kc.enabled()) || run_limit_hit) save();
   if (out) {
     if (solver->time() > last_row) out->global_row(solver->time(), solver->steps(), dt, step_report(*solver), recorder_row());  // the final state
     if (solver->time() > last_frame) write_frame(solver->time());

@@ -1,0 +1,216 @@
+#include "tsuchi/run/factor_of_safety.hpp"
+
+#include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/atomic_file.hpp"
+#include "tsuchi/io/vtu_writer.hpp"
+#include "tsuchi/model/model.hpp"
+#include "tsuchi/run/simulation.hpp"
+#include "tsuchi/solver/explicit_step.hpp"
+#include "tsuchi/solver/time_step.hpp"
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <exception>
+#include <filesystem>
+#include <optional>
+
+namespace tsuchi {
+
+namespace {
+
+// Steps before the equilibrium test of a trial (see run_trial).
+constexpr std::int64_t kFirstJudgedStep = 20;
+
+bool reducible(const Material& m) {
+  return std::visit([](const auto& model) { return requires { model.reduced(1.0, false); }; }, m.model);
+}
+
+// One trial: the analysis' end state with every reducible strength divided by F, stepped to
+// equilibrium or collapse (factor_of_safety.hpp gives the criteria). `frame` gets the end state.
+template <int D>
+FosTrial run_trial(const Model<D>& base, const Config& during, const FosConfig& f, double F, double t0,
+                   std::int64_t steps0, const std::vector<std::string>& fields, std::string& frame) {
+  const auto wall = std::chrono::steady_clock::now();
+  Model<D> m = base;
+  for (Material& mat : m.materials)
+    std::visit([&](auto& model) {
+      if constexpr (requires { model.reduced(1.0, false); }) model = model.reduced(F, f.reduce_dilatancy);
+    }, mat.model);
+  // Displacements from the state the trial starts from.
+  std::fill(m.particles.u_p.begin(), m.particles.u_p.end(), Vec<D>::Zero());
+  ExplicitSolver<D> solver(m);
+  solver.resume(t0, steps0);
+  FosTrial t;
+  t.factor = F;
+  const std::int64_t late = f.max_steps - f.max_steps / 5;  // the last fifth starts here
+  double at_late = 0.0;
+  auto max_displacement = [&] {
+    double most = 0.0;
+    for (const auto& u : m.particles.u_p) most = std::max(most, u.squaredNorm());
+    return std::sqrt(most);
+  };
+  try {
+    for (std::int64_t n = 1; n <= f.max_steps; ++n) {
+      const double dt = next_time_step(during.time, critical_time_step<D>(m.particles, m.materials, m.grid.h),
+                                       solver.steps(), during.source);
+      solver.step(dt);
+      t.steps = n;
+      t.max_displacement = max_displacement();
+      t.unbalanced_force_ratio = solver.unbalanced_force_ratio();
+      if (f.displacement_limit && t.max_displacement > *f.displacement_limit) {
+        t.failed = true, t.reason = "displacement";
+        break;
+      }
+      // The reduced strength acts from the first stress update on, and the forces it leaves out of
+      // balance show in the solves after it: the ratio of the first steps still reflects the old state.
+      if (n >= kFirstJudgedStep && t.unbalanced_force_ratio < f.unbalanced_force_ratio) {
+        t.reason = "equilibrium";
+        break;
+      }
+      if (n == late) at_late = t.max_displacement;
+    }
+  } catch (const RunError& e) {
+    // A collapse may carry particles out of the grid or crush them: a failure, not a fault.
+    t.failed = true, t.reason = fmt::format("run fault ({})", e.what());
+  }
+  if (t.reason.empty()) {
+    const bool at_rest = f.displacement_limit && t.max_displacement - at_late < 0.01 * *f.displacement_limit;
+    t.failed = !at_rest;
+    t.reason = at_rest ? "at rest at max_steps" : "max_steps";
+  }
+  frame = vtu_document<D>(m, fields);
+  t.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
+  return t;
+}
+
+}  // namespace
+
+template <int D>
+FosResult factor_of_safety(const Config& config, const FosOptions& options) {
+  if (!config.fos.given)
+    throw InputError(fmt::format("{}: missing table [fos]: expected the factor of safety's settings, at least "
+                                 "fos.max_steps (the steps a trial may take to reach equilibrium); docs/stages.md",
+                                 config.source));
+  const FosConfig& f = config.fos;
+  const Config& during = config.staged() ? *config.stages[static_cast<std::size_t>(f.after_stage)].config : config;
+  if (std::none_of(during.materials.begin(), during.materials.end(), reducible)) {
+    std::string names;
+    for (const auto& m : during.materials) names += fmt::format("{}\"{}\"", names.empty() ? "" : ", ", m.name);
+    throw InputError(fmt::format("{}: key 'fos': no material to reduce: the factor of safety divides the strength of "
+                                 "Mohr-Coulomb-family materials (mohr_coulomb, drucker_prager, mohr_coulomb_softening), "
+                                 "and the input's materials ({}) are none of them",
+                                 config.source, names));
+  }
+  // The analysis, to the end of its [fos] stage: the state the trials start from.
+  Model<D> model = build_model<D>(config);
+  RunOptions ro;
+  ro.output_directory = options.output_directory;
+  ro.last_stage = f.after_stage;
+  ro.on_stage_end = [&](const StageReport& r) {
+    if (options.on_note)
+      options.on_note(fmt::format("stage {}/{} \"{}\": {} at step {} (t = {:.6g} s), unbalanced-force ratio {:.3g}",
+                                  r.stage, r.stages, r.name, r.end, r.end_step, r.end_time, r.unbalanced_force_ratio));
+  };
+  const RunSummary run = run_simulation<D>(model, config, ro);
+  if (!run.stopped_by.empty() && options.on_note) options.on_note("the analysis stopped: " + run.stopped_by);
+
+  FosResult result;
+  result.directory = options.output_directory + "/fos";
+  std::filesystem::create_directories(result.directory);
+  std::vector<std::string> fields = config.output.fields;
+  for (const char* name : {"displacement", "plastic_shear_strain", "max_shear_strain"})
+    if (std::find(fields.begin(), fields.end(), name) == fields.end()) fields.emplace_back(name);
+
+  std::string stable_frame = vtu_document<D>(model, fields), failed_frame;
+  // A round of trials, side by side where there are threads (one thread each then: the same bits).
+  auto round = [&](const std::vector<double>& factors) {
+    std::vector<FosTrial> trials(factors.size());
+    std::vector<std::string> frames(factors.size());
+    std::vector<std::exception_ptr> errors(factors.size());
+    const int outer = std::min<int>(static_cast<int>(factors.size()), omp_get_max_threads());
+    auto one = [&](std::size_t i) {
+      try {
+        trials[i] = run_trial<D>(model, during, f, factors[i], run.time, run.steps, fields, frames[i]);
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+    };
+    if (outer > 1) {
+      const int levels = omp_get_max_active_levels();
+      omp_set_max_active_levels(1);
+#pragma omp parallel for num_threads(outer) schedule(static, 1)
+      for (std::size_t i = 0; i < factors.size(); ++i) one(i);
+      omp_set_max_active_levels(levels);
+    } else {
+      for (std::size_t i = 0; i < factors.size(); ++i) one(i);
+    }
+    for (const auto& e : errors)
+      if (e) std::rethrow_exception(e);
+    for (std::size_t i = 0; i < trials.size(); ++i) {
+      trials[i].index = static_cast<int>(result.trials.size()) + 1;
+      result.trials.push_back(trials[i]);
+      if (options.on_trial) options.on_trial(trials[i]);
+    }
+    return std::pair{trials, frames};
+  };
+
+  double lo = f.lower, hi = f.upper;
+  if (lo != 1.0) {
+    auto [t, fr] = round({lo});
+    if (t[0].failed)
+      throw InputError(fmt::format("{}: key 'fos.bracket': the trial at the lower end F = {:g} fails ({}); expected a "
+                                   "lower end at which the ground stands",
+                                   config.source, lo, t[0].reason));
+    stable_frame = fr[0];
+  }
+  constexpr double highest = 100.0;
+  for (;;) {
+    auto [t, fr] = round({hi});
+    if (t[0].failed) {
+      failed_frame = fr[0];
+      break;
+    }
+    lo = hi, stable_frame = fr[0];
+    if (hi * 2.0 > highest)
+      throw RunError(fmt::format("the ground stands at F = {:g}, beyond which no factor of safety is sought; check "
+                                 "fos.displacement_limit and fos.unbalanced_force_ratio",
+                                 hi),
+                     Fault::Other);
+    hi *= 2.0;
+  }
+  const int k = f.trials_at_once;
+  while ((hi - lo) / lo > f.tolerance) {
+    std::vector<double> factors;
+    for (int i = 1; i <= k; ++i) factors.push_back(lo + (hi - lo) * i / (k + 1));
+    auto [t, fr] = round(factors);
+    // The first failure of the round is the new upper end; the last stand below it the lower one.
+    std::size_t first_fail = t.size();
+    for (std::size_t i = 0; i < t.size(); ++i)
+      if (t[i].failed) {
+        first_fail = i;
+        break;
+      }
+    if (first_fail < t.size()) hi = factors[first_fail], failed_frame = fr[first_fail];
+    if (first_fail > 0) lo = factors[first_fail - 1], stable_frame = fr[first_fail - 1];
+  }
+  result.lower = lo, result.upper = hi, result.factor = 0.5 * (lo + hi);
+
+  std::string csv = "trial,factor,result,reason,steps,unbalanced_force_ratio,max_displacement,wall_seconds\n";
+  for (const auto& t : result.trials)
+    csv += fmt::format("{},{:.9g},{},\"{}\",{},{:.6g},{:.9g},{:.3f}\n", t.index, t.factor, t.failed ? "fails" : "stands",
+                       t.reason, t.steps, t.unbalanced_force_ratio, t.max_displacement, t.wall_seconds);
+  write_file_atomically(result.directory + "/trials.csv", csv);
+  write_file_atomically(result.directory + "/stable.vtu", stable_frame);
+  write_file_atomically(result.directory + "/mechanism.vtu", failed_frame);
+  write_file_atomically(result.directory + "/fos.pvd", pvd_document({{lo, "stable.vtu"}, {hi, "mechanism.vtu"}}));
+  return result;
+}
+
+template FosResult factor_of_safety<2>(const Config&, const FosOptions&);
+template FosResult factor_of_safety<3>(const Config&, const FosOptions&);
+
+}  // namespace tsuchi

@@ -220,12 +220,13 @@ int run(const Config& c, const Options& o) {
     if (!o.quiet) reporter.update(p);
   };
   ro.on_stage_end = [&](const StageReport& r) {
-    if (!o.quiet) reporter.finish(last);
+    if (r.equilibrium_asked && r.end != "equilibrium")
+      fmt::print(stderr, "warning: stage \"{}\" reached {} before equilibrium; the next stage starts from a state that "
+                         "is not at rest\n", r.name, r.end);
+    if (o.quiet) return;
+    reporter.finish(last);
     fmt::print("stage {}/{} \"{}\": {} at step {} (t = {:.6g} s), {} steps, unbalanced-force ratio {:.3g}\n", r.stage,
                r.stages, r.name, r.end, r.end_step, r.end_time, r.end_step - r.start_step, r.unbalanced_force_ratio);
-    if (r.equilibrium_asked && r.end != "equilibrium")
-      fmt::print(stderr, "warning: stage \"{}\" ended by {} before equilibrium; the next stage starts from a state that "
-                         "is not at rest\n", r.name, r.end);
   };
   const RunSummary s = run_simulation<D>(m, c, ro);
   if (!o.quiet && !c.staged()) reporter.finish(last);

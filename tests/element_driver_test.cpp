@@ -319,7 +319,7 @@ TEST(ElementInput, RefusesBadPaths) {
   expect_message(input_error(replace(kGeneral, "zz = \"hold\"", "zz = \"keep\"")),
                  {"key 'test.segments.0.stress.zz'", "or \"hold\"", "got \"keep\""});
   expect_message(input_error(replace(kGeneral, "friction_angle = 30.5", "friction_angle = 95")),
-                 {"element.toml:8:", "key 'materials.0.friction_angle'", "(0, 90)", "got 95"});
+                 {"element.toml:8:", "key 'materials.0.friction_angle'", "[0, 90)", "got 95"});
   expect_message(input_error(replace(kGeneral, "type = \"general\"", "type = \"triaxial\"")),
                  {"key 'test.type'", "\"triaxial_compression\"", "got \"triaxial\""});
   expect_message(input_error(replace(kGeneral, "[[test.segments]]", "[[test.segment]]")),

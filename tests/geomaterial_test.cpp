@@ -156,8 +156,8 @@ struct BadCase {
 
 TEST(Geomaterial, BadInputNamesTheKey) {
   const BadCase cases[] = {
-      {{"materials.0.friction_angle=95"}, "materials.0.friction_angle", "(0, 90)"},
-      {{"materials.0.friction_angle=0"}, "materials.0.friction_angle", "(0, 90)"},
+      {{"materials.0.friction_angle=95"}, "materials.0.friction_angle", "[0, 90)"},
+      {{"materials.0.friction_angle=-1"}, "materials.0.friction_angle", "[0, 90)"},
       {{"materials.0.dilatancy_angle=31"}, "materials.0.dilatancy_angle", "no larger than the friction angle"},
       {{"materials.0.cohesion=-1"}, "materials.0.cohesion", ">= 0"},
       {{"materials.0.tension_strength=-1"}, "materials.0.tension_strength", ">= 0"},

@@ -477,9 +477,14 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
             (kc.every_minutes > 0.0 && clock::now() - last_checkpoint >= checkpoint_wall))
           save();
       }
-      if (!staged || run_limit_hit) break;
+      // A recorder's stop bound stops the run, not the stage: a restart (with another bound)
+      // continues the stage where it stopped.
+      if (!staged || run_limit_hit || !stopped_by.empty()) {
+        run_limit_hit = run_limit_hit || staged;
+        break;
+      }
       // The end of a stage: its last row and frame, its row of stages.csv and .pvd, a checkpoint.
-      if (stage_end.empty()) stage_end = stopped_by.empty() ? "duration" : "stopped";
+      if (stage_end.empty()) stage_end = "duration";
       StageReport rep;
       rep.stage = static_cast<int>(stage) + 1, rep.stages = static_cast<int>(config.stages.size());
       rep.name = config.stages[stage].name, rep.end = stage_end;
@@ -510,7 +515,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
       if (options.on_stage_end) options.on_stage_end(rep);
       stage_done = true;
       save();
-      if (!stopped_by.empty() || stage >= last_stage) break;
+      if (stage >= last_stage) break;
     }
   } catch (const Interrupted&) {
     throw;

@@ -31,7 +31,7 @@ struct Progress {
 struct StageReport {
   int stage = 1, stages = 1;
   std::string name;
-  std::string end;  // "duration", "steps", "equilibrium", "recorder NAME", "max_steps", or "stopped" (a recorder's stop bound)
+  std::string end;  // "duration", "steps", "equilibrium", "recorder NAME" or "max_steps"
   double start_time = 0.0, end_time = 0.0;
   std::int64_t start_step = 0, end_step = 0;
   double unbalanced_force_ratio = 0.0, kinetic_energy_ratio = 0.0;

@@ -1,6 +1,6 @@
 """`tsuchi fos`, the factor of safety by strength reduction, on examples/slope_fos at 1 m cells
 (--set grid.cell_size=1.0 --set fos.max_steps=4000: the example's 400 H / h steps per trial at that
-grid; about 15 s on one thread in all).
+grid; 15-35 s on one thread in all, depending on the load).
 
   - slope_fos.toml, Griffiths and Lane (1999) example 1 (2:1, H = 10 m, phi = 20 deg,
     c / (gamma H) = 0.05, no foundation layer): F within 5 % of their 1.4 (the issue's tolerance;
@@ -11,12 +11,14 @@ grid; about 15 s on one thread in all).
   - The same search with -j1 and -j2 (two trials side by side): trials.csv's factor and result
     columns are identical.
   - slope_fos_phi0.toml, the same slope in Tresca clay (phi = 0, c = 35 kPa) against Taylor's chart
-    (Ns = 0.124 for beta = 26.57 deg, D = 1: F = 1.415). Tolerance 10 %, above the 5 % above: measured
-    PHI0_MEASURED. Isochoric plastic flow (phi = psi = 0) locks the
-    volume of a particle grid: the footing (docs/input.md, anti_locking) and the excavation example
-    overshoot their Tresca limits by 6-8 % at such resolutions, and the slope's phi = 0 prototype
-    came out 4-13 % above Taylor at 0.5-1 m cells, against +2.7 % for phi = 20 deg at 1 m cells.
-    Taylor's chart value itself is read to about 2 %.
+    (Ns = 0.124 for beta = 26.57 deg, D = 1: F = 1.411 with gamma = 20.0 kN/m^3). Tolerance 12 %,
+    above the 5 % of phi = 20 deg, from measurements: F = 1.537 at 1 m cells (+8.9 %), 1.475 at
+    0.5 m (+4.5 %). The excess halves with the cell size, and it is the overshoot this code shows
+    on its other Tresca limits at such resolutions (the footing's +7 % at 20 cells per width,
+    docs/input.md, anti_locking, put down to volumetric locking under isochoric plastic flow; the
+    excavation example's +6-8 %). The 12 % holds the 1 m value with a margin of 3 points, about the
+    uncertainty of the reference itself (Ns = 0.124 is a circular-arc search's and one chart
+    digitisation's value; another digitisation of the D = 1 curve lies up to 13 % away).
   - Input errors of `tsuchi fos` (exit 2, nothing written): an input without [fos], and an input
     whose materials are all linear_elastic ("no material to reduce"). The [fos] keys' own errors,
     which `tsuchi run` reports too, are tests/bad_input/fos_*.toml.
@@ -44,7 +46,7 @@ COARSE = ["--set", "grid.cell_size=1.0", "--set", "fos.max_steps=4000"]
 GRIFFITHS_LANE = 1.4          # their finite-element F (Bishop and Morgenstern's charts: 1.38)
 GL_TOLERANCE = 0.05           # relative
 TAYLOR_NS = 0.124             # Taylor's chart, phi = 0, beta = 26.57 deg, D = 1
-TAYLOR_TOLERANCE = 0.10       # relative; see the module's text
+TAYLOR_TOLERANCE = 0.12       # relative; see the module's text
 
 
 def fos(input_file, out, *args, threads=1):

@@ -63,17 +63,20 @@ Recorder<D>::Recorder(const RecorderConfig& config, std::size_t index, const Mod
   const auto q = find_recorder_quantity(c_.quantity, D);
   if (!q) throw InputError(fmt::format("recorder \"{}\": unknown quantity \"{}\"", c_.name, c_.quantity));
   field_ = q->first, component_ = q->second;
-  const auto& p = model.particles;
-  member_.assign(p.size(), 0);
-  for (std::size_t i = 0; i < p.size(); ++i) {
-    if (c_.body >= 0 && p.body_p[i] != c_.body) continue;
-    const Vec<D> x0 = p.x_p[i] - p.u_p[i];
-    bool inside = true;
-    for (int d = 0; d < D; ++d) {
-      if (c_.min) inside = inside && x0[d] >= (*c_.min)[d];
-      if (c_.max) inside = inside && x0[d] <= (*c_.max)[d];
+  // Over the bodies a later stage adds as well (Model::dormant): a recorder may follow a fill.
+  member_.assign(std::max(static_cast<std::size_t>(model.id_count), model.particles.size()), 0);
+  for (const Particles<D>* set : {&model.particles, &model.dormant}) {
+    const auto& p = *set;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (c_.body >= 0 && p.body_p[i] != c_.body) continue;
+      const Vec<D> x0 = p.x_p[i] - p.u_p[i];
+      bool inside = true;
+      for (int d = 0; d < D; ++d) {
+        if (c_.min) inside = inside && x0[d] >= (*c_.min)[d];
+        if (c_.max) inside = inside && x0[d] <= (*c_.max)[d];
+      }
+      if (inside) member_[static_cast<std::size_t>(p.id_p[i])] = 1, ++count_;
     }
-    if (inside) member_[static_cast<std::size_t>(p.id_p[i])] = 1, ++count_;
   }
   if (reduce::sum(static_cast<double>(count_)) == 0.0)
     throw InputError(fmt::format("{}: key 'recorders.{}': recorder \"{}\" selects no particle: no particle of {} starts "
@@ -92,13 +95,15 @@ std::vector<Recorder<D>> make_recorders(const Config& config, const Model<D>& mo
 
 template <int D>
 const std::vector<std::size_t>& Recorder<D>::indices(const Particles<D>& p) const {
-  bool valid = index_.size() == count_;
+  // Found again after a reordering, and after a stage removed or added particles.
+  bool valid = scanned_size_ == p.size();
   for (std::size_t k = 0; valid && k < index_.size(); ++k)
     valid = index_[k] < p.size() && p.id_p[index_[k]] == index_id_[k];
   if (!valid) {
     index_.clear(), index_id_.clear();
     for (std::size_t i = 0; i < p.size(); ++i)
       if (member_[static_cast<std::size_t>(p.id_p[i])]) index_.push_back(i), index_id_.push_back(p.id_p[i]);
+    scanned_size_ = p.size();
   }
   return index_;
 }
@@ -128,7 +133,8 @@ double Recorder<D>::value(const Particles<D>& p) const {
     case RecorderConfig::Reduction::Sum:
       for (auto i : set) r += field_value(*field_, p, i, component_);
       r = reduce::sum(r);
-      if (c_.reduction == RecorderConfig::Reduction::Mean) r /= reduce::sum(static_cast<double>(count_));
+      // Over the members present (a stage may remove or add some; none: NaN).
+      if (c_.reduction == RecorderConfig::Reduction::Mean) r /= reduce::sum(static_cast<double>(set.size()));
       break;
     case RecorderConfig::Reduction::Min:
       r = std::numeric_limits<double>::infinity();

@@ -46,6 +46,7 @@ class Recorder {
   // (a check of count_ ids per evaluation, a pass over all particles only after a reordering).
   mutable std::vector<std::size_t> index_;
   mutable std::vector<std::int64_t> index_id_;
+  mutable std::size_t scanned_size_ = static_cast<std::size_t>(-1);  // particle count at the last scan
   const std::vector<std::size_t>& indices(const Particles<D>& p) const;
 };
 

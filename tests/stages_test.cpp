@@ -1,0 +1,235 @@
+// Staged analyses and strength reduction (issue 19): the pieces under `tsuchi run` with [[stages]]
+// and `tsuchi fos`. Whole runs against elastic and limit-analysis solutions are in
+// tests/staged_test.py and tests/slope_fos_test.py.
+#include "test_support.hpp"
+
+#include "tsuchi/core/errors.hpp"
+#include "tsuchi/core/time_function.hpp"
+#include "tsuchi/io/config_reader.hpp"
+#include "tsuchi/material/mohr_coulomb.hpp"
+#include "tsuchi/material/strength_reduction.hpp"
+#include "tsuchi/model/model.hpp"
+#include "tsuchi/model/stage_change.hpp"
+#include "tsuchi/run/recorder.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <map>
+#include <set>
+
+namespace {
+
+using namespace tsuchi;
+using namespace tsuchi::test;
+constexpr double deg = std::numbers::pi / 180.0;
+
+// Ground, a block to dig out and a fill added later; a pressure on the ground.
+const std::string kStaged = R"([model]
+dimension = 2
+gravity = [0.0, -9.81]
+
+[grid]
+origin = [0.0, 0.0]
+extent = [4.0, 3.0]
+cell_size = 0.5
+
+[[materials]]
+name = "soil"
+model = "mohr_coulomb"
+density = 2000.0
+youngs_modulus = 2e7
+poisson_ratio = 0.3
+cohesion = 2e4
+friction_angle = 30.0
+
+[[bodies]]
+name = "fill"
+material = "soil"
+min = [0.0, 2.0]
+max = [2.0, 2.5]
+
+[[bodies]]
+name = "ground"
+material = "soil"
+min = [0.0, 0.0]
+max = [4.0, 2.0]
+
+[[bodies]]
+name = "block"
+material = "soil"
+min = [2.0, 2.0]
+max = [4.0, 2.5]
+
+[[loads]]
+kind = "traction"
+body = "block"
+min = [2.0, 2.3]
+max = [4.0, 2.5]
+pressure = 1e4
+
+[[recorders]]
+name = "fill_settlement"
+body = "fill"
+quantity = "displacement_y"
+
+[boundary]
+y_min = "fixed"
+
+[[stages]]
+name = "rest"
+unbalanced_force_ratio = 1e-4
+max_steps = 100
+
+[[stages]]
+name = "dig"
+remove = ["block"]
+reset_displacements = true
+steps = 10
+[stages.solver]
+damping = 0.8
+[stages.materials.soil]
+cohesion = 1e4
+[stages.model]
+gravity_function = "ramp"
+
+[[stages]]
+name = "fill"
+add = ["fill"]
+duration = 0.01
+
+[[functions]]
+name = "ramp"
+table = [[0.0, 0.0], [1.0, 1.0]]
+)";
+
+TEST(StrengthReduction, DividesCohesionAndTanPhi) {
+  // Dawson et al. (1999): c / F, tan(phi) / F; psi kept below phi_F; sigma_t with c.
+  const double F = 1.5;
+  const ReducedStrength r = reduce_strength(1e4, 30 * deg, 10 * deg, 5e3, F, false);
+  EXPECT_NEAR(r.cohesion, 1e4 / F, 1e-9);
+  EXPECT_NEAR(std::tan(r.phi), std::tan(30 * deg) / F, 1e-14);
+  EXPECT_NEAR(r.psi, 10 * deg, 1e-15);  // below phi_F = 21.05 deg: kept
+  EXPECT_NEAR(r.tension, 5e3 / F, 1e-9);
+  const ReducedStrength d = reduce_strength(1e4, 30 * deg, 10 * deg, 5e3, F, true);
+  EXPECT_NEAR(std::tan(d.psi), std::tan(10 * deg) / F, 1e-14);
+  // psi = 20 deg above phi_F = atan(tan 25 / 2) = 13.1 deg: capped at phi_F.
+  const ReducedStrength c = reduce_strength(1e4, 25 * deg, 20 * deg, 0.0, 2.0, false);
+  EXPECT_DOUBLE_EQ(c.psi, c.phi);
+  // A tension strength above the reduced apex c_F / tan(phi_F) is capped there.
+  const ReducedStrength t = reduce_strength(1e4, 40 * deg, 0.0, 1e4 / std::tan(40 * deg), 2.0, false);
+  EXPECT_LE(t.tension, t.cohesion / std::tan(t.phi) * (1 + 1e-12));
+}
+
+TEST(StrengthReduction, MohrCoulombPeakIsTheReducedOne) {
+  // The plane-strain peak q = p (N_phi - 1) + 2 c sqrt(N_phi) of the reduced model is that of
+  // (c / F, atan(tan(phi) / F)), and lies on its yield surface to round-off.
+  MohrCoulomb m;
+  m.cohesion = 8.5e3, m.phi = 30.5 * deg;
+  const double F = 1.7, p = 1e5;
+  const MohrCoulomb r = m.reduced(F, false);
+  const double phi_F = std::atan(std::tan(30.5 * deg) / F) / deg;
+  const double q = mohr_coulomb_peak(p, 8.5e3 / F, phi_F);
+  const Eigen::Vector3d at_peak(-p - q, -p, -p);  // ascending: most compressive first
+  EXPECT_NEAR(MohrCoulomb::shear_yield(at_peak, r.strength()), 0.0, 1e-9 * q);
+  EXPECT_GT(MohrCoulomb::shear_yield(at_peak, m.strength()), 0.1 * q) << "the unreduced soil is well inside (f > 0)";
+}
+
+TEST(TimeFunctionClock, StartsAtTheStage) {
+  const TimeFunction ramp = TimeFunction::table({0.0, 1.0}, {0.0, 1.0});
+  const TimeFunction later = ramp.starting_at(2.0);
+  EXPECT_DOUBLE_EQ(later(1.0), 0.0);
+  EXPECT_DOUBLE_EQ(later(2.5), 0.5);
+  EXPECT_DOUBLE_EQ(later(9.0), 1.0);
+  EXPECT_DOUBLE_EQ(later.settles_at(), 3.0);
+  // Before its start it has not acted: the integral from 0 is that from the start.
+  EXPECT_NEAR(later.integral(0.0, 3.0), 0.5, 1e-15);
+  EXPECT_NEAR(later.integral(2.0, 4.0), 1.5, 1e-15);
+  EXPECT_DOUBLE_EQ(ramp.starting_at(0.0)(0.25), ramp(0.25));
+}
+
+TEST(Stages, EachStageReadsTheInputWithItsChanges) {
+  const Config c = read_config_string(kStaged, "staged.toml");
+  ASSERT_EQ(c.stages.size(), 3u);
+  const Config& rest = *c.stages[0].config;
+  const Config& dig = *c.stages[1].config;
+  const Config& fill = *c.stages[2].config;
+  EXPECT_EQ(rest.solver.damping, 0.0);
+  EXPECT_EQ(dig.solver.damping, 0.8);
+  EXPECT_EQ(fill.solver.damping, 0.8) << "a change holds for the later stages";
+  const auto cohesion = [](const Config& k) { return std::get<MohrCoulomb>(k.materials[0].model).cohesion; };
+  EXPECT_EQ(cohesion(rest), 2e4);
+  EXPECT_EQ(cohesion(dig), 1e4);
+  EXPECT_EQ(std::get<MohrCoulomb>(dig.materials[0].model).phi, 30 * deg) << "only the key the stage sets";
+  EXPECT_EQ(rest.gravity_function, -1);
+  EXPECT_GE(dig.gravity_function, 0);
+  EXPECT_TRUE(c.stages[1].changes_gravity && c.stages[1].changes_materials && c.stages[1].changes_solver);
+  EXPECT_FALSE(c.stages[1].changes_loads || c.stages[2].changes_gravity);
+  EXPECT_EQ(c.stages[1].remove, std::vector<int>{2});
+  EXPECT_EQ(c.stages[2].add, std::vector<int>{0});
+  EXPECT_EQ(c.body_starts_dormant, (std::vector<bool>{true, false, false}));
+  EXPECT_EQ(*c.stages[2].end.duration, 0.01);
+  EXPECT_EQ(c.stages[0].end.max_steps, 100);
+  // One run: every stage's input carries the run's fingerprint.
+  EXPECT_EQ(fill.fingerprint, c.fingerprint);
+  EXPECT_NE(read_config_string(kStaged, "staged.toml", {"stages.1.steps=11"}).fingerprint, c.fingerprint);
+  EXPECT_EQ(read_config_string(kStaged, "staged.toml", {"time.max_steps=5"}).fingerprint, c.fingerprint);
+}
+
+TEST(Stages, MessagesNameTheStageAndKey) {
+  auto message = [](const std::vector<std::string>& sets) {
+    try {
+      read_config_string(kStaged, "staged.toml", sets);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  expect_message(message({"stages.1.remove=[\"blok\"]"}), {"stages.1.remove", "\"ground\"", "\"blok\""});
+  expect_message(message({"stages.2.remove=[\"block\"]"}), {"stages.2.remove", "an earlier stage removed it"});
+  expect_message(message({"stages.1.solver.damping=2.0"}), {"solver.damping", "in stage 2 \"dig\""});
+  expect_message(message({"stages.0.reset_displacements=true"}), {"stages.0.reset_displacements", "first stage"});
+  expect_message(message({"stages.1.bodies.ground.min=[0.0, 0.0]"}), {"stages.1.bodies.ground.min", "prescribed_velocity"});
+  expect_message(message({"time.end=1.0"}), {"time.end", "each [[stages]] its end"});
+}
+
+TEST(Stages, RemovalAndAdditionMoveParticlesAndLoads) {
+  const Config c = read_config_string(kStaged, "staged.toml");
+  Model<2> m = build_model<2>(c);
+  std::map<int, std::size_t> count;
+  for (const auto b : m.particles.body_p) ++count[b];
+  EXPECT_EQ(count.count(0), 0u) << "the fill waits outside the model";
+  EXPECT_EQ(m.dormant.size(), 2u * 4u * 2u * 2u / 2u);  // 2 m x 0.5 m at 4 particles per 0.25 m^2 cell
+  const std::size_t ground = count[1], block = count[2];
+  ASSERT_EQ(m.loads.surface.size(), 1u);
+  EXPECT_GT(m.loads.surface[0].id.size(), 0u);
+  EXPECT_EQ(static_cast<std::size_t>(m.id_count), ground + block + m.dormant.size());
+  // A recorder of the fill is possible before the fill is there: its set is chosen over every body.
+  const auto recorders = make_recorders<2>(c, m);
+  EXPECT_EQ(recorders[0].size(), m.dormant.size());
+
+  m.particles.u_p[0] = Vec<2>(1.0, 2.0);
+  change_particles(m, c, 1);
+  EXPECT_EQ(m.particles.size(), ground);
+  EXPECT_TRUE(m.loads.surface[0].id.empty()) << "the load on the dug block goes with it";
+  EXPECT_EQ(m.particles.u_p[0], Vec<2>::Zero()) << "displacements reset";
+  change_particles(m, c, 2);
+  EXPECT_EQ(m.particles.size(), ground + 2u * 4u * 2u * 2u / 2u);
+  EXPECT_EQ(m.dormant.size(), 0u);
+  std::set<std::int64_t> ids(m.particles.id_p.begin(), m.particles.id_p.end());
+  EXPECT_EQ(ids.size(), m.particles.size()) << "ids stay unique";
+  for (std::size_t i = 0; i < m.particles.size(); ++i)
+    EXPECT_DOUBLE_EQ(m.particles.m_p[i], 2000.0 * m.particles.V_p[i]) << "arrays moved together, particle " << i;
+}
+
+TEST(Stages, ReconfigureRestartsTheStageClock) {
+  const Config c = read_config_string(kStaged, "staged.toml");
+  Model<2> m = build_model<2>(c);
+  reconfigure(m, c, 1, 3.0);
+  EXPECT_EQ(m.step.damping, 0.8);
+  EXPECT_DOUBLE_EQ(m.step.gravity_function(3.5), 0.5) << "the ramp starts with its stage";
+  EXPECT_EQ(std::get<MohrCoulomb>(m.materials[0].model).cohesion, 1e4);
+}
+
+}  // namespace

@@ -76,6 +76,19 @@ void print_contact(const Config& c, const Model<D>& m) {
 }
 
 void print_stages(const Config& c);
+
+// [fos]: what `tsuchi fos` would do after the analysis.
+void print_fos(const Config& c) {
+  const FosConfig& f = c.fos;
+  fmt::print("fos        after {}: c and tan(phi) divided by F{}, F from [{:g}, {:g}] to {:g} %, {} trial{} a round; a "
+             "trial stands at ratio < {:g}, fails {}after {} steps\n",
+             f.after_stage >= 0 ? fmt::format("stage \"{}\"", c.stages[static_cast<std::size_t>(f.after_stage)].name)
+                                : std::string("the run"),
+             f.reduce_dilatancy ? " (and tan(psi))" : "", f.lower, f.upper, 100.0 * f.tolerance, f.trials_at_once,
+             f.trials_at_once > 1 ? "s" : "", f.unbalanced_force_ratio,
+             f.displacement_limit ? fmt::format("beyond {:g} m of displacement or ", *f.displacement_limit) : std::string{},
+             f.max_steps);
+}
 void print_length(const Config& c, double dt, const std::string& output_dir);
 
 template <int D>
@@ -112,9 +125,11 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
              c.time.courant ? fmt::format("Courant {}", *c.time.courant) : std::string("fixed"), dt_crit);
   if (c.staged()) {
     print_stages(c);
+    if (c.fos.given) print_fos(c);
     fmt::print("output     {} (a frame at the end of each stage{}; stages.csv)\n", output_dir,
                c.output.interval > 0 ? fmt::format(" and every {} s", c.output.interval) : std::string{});
   } else {
+    if (c.fos.given) print_fos(c);
     print_length(c, dt, output_dir);
   }
   fmt::print("memory     about {:.1f} MB\n", static_cast<double>(m.bytes()) / 1e6);

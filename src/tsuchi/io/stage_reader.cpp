@@ -279,7 +279,7 @@ void read_fos(Section& s, Config& c) {
   f.max_steps = s.integer("max_steps", "a positive whole number of steps per trial", [](std::int64_t n) { return n > 0; }, 0);
   if (f.max_steps == 0) s.need("max_steps", "the most steps a trial may take to reach equilibrium; without it, a trial is a failure");
   f.unbalanced_force_ratio = s.number("unbalanced_force_ratio", "a tolerance in (0, 1)",
-                                      [](double x) { return x > 0.0 && x < 1.0; }, 1e-4);
+                                      [](double x) { return x > 0.0 && x < 1.0; }, 1e-3);
   f.displacement_limit = s.optional_number("displacement_limit", "a positive displacement in m", [](double x) { return x > 0.0; });
   f.trials_at_once = static_cast<int>(s.integer("trials_at_once", "a whole number from 1 to 64",
                                                 [](std::int64_t n) { return n >= 1 && n <= 64; }, 2));

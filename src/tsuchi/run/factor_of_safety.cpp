@@ -117,6 +117,12 @@ FosResult factor_of_safety(const Config& config, const FosOptions& options) {
   };
   const RunSummary run = run_simulation<D>(model, config, ro);
   if (!run.stopped_by.empty() && options.on_note) options.on_note("the analysis stopped: " + run.stopped_by);
+  // The search takes F = 1 (the analysis' state) to stand: say so when that state is not at rest.
+  if (!run.stages.empty() && run.stages.back().equilibrium_asked && run.stages.back().end != "equilibrium" &&
+      options.on_note)
+    options.on_note(fmt::format("warning: stage \"{}\" reached {} before equilibrium; the trials start from a state "
+                                "that is not at rest, and F = 1 is taken to stand",
+                                run.stages.back().name, run.stages.back().end));
 
   FosResult result;
   result.directory = options.output_directory + "/fos";

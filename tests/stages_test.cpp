@@ -11,6 +11,7 @@
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/model/stage_change.hpp"
 #include "tsuchi/run/recorder.hpp"
+#include "tsuchi/run/simulation.hpp"
 
 #include <gtest/gtest.h>
 
@@ -230,6 +231,92 @@ TEST(Stages, ReconfigureRestartsTheStageClock) {
   EXPECT_EQ(m.step.damping, 0.8);
   EXPECT_DOUBLE_EQ(m.step.gravity_function(3.5), 0.5) << "the ramp starts with its stage";
   EXPECT_EQ(std::get<MohrCoulomb>(m.materials[0].model).cohesion, 1e4);
+}
+
+// An elastic column: each stage ends by another of the ends.
+const std::string kEnds = R"([model]
+dimension = 2
+gravity = [0.0, -9.81]
+
+[grid]
+origin = [0.0, 0.0]
+extent = [1.0, 4.5]
+cell_size = 0.5
+
+[[materials]]
+name = "soil"
+model = "linear_elastic"
+density = 2000.0
+youngs_modulus = 2e7
+poisson_ratio = 0.3
+
+[[bodies]]
+name = "column"
+material = "soil"
+min = [0.0, 0.0]
+max = [1.0, 4.0]
+
+[boundary]
+x_min = "roller"
+x_max = "roller"
+y_min = "fixed"
+
+[solver]
+damping = 0.5
+
+[[recorders]]
+name = "top"
+min = [0.0, 3.75]
+quantity = "displacement_y"
+
+[[stages]]
+name = "by_steps"
+steps = 30
+
+[[stages]]
+name = "by_recorder"
+recorder = "top"
+below = -1e-4
+max_steps = 5000
+
+[[stages]]
+name = "by_duration"
+duration = 0.05
+
+[[stages]]
+name = "by_energy"
+kinetic_energy_ratio = 1e-3
+max_steps = 20000
+
+[[stages]]
+name = "by_max_steps"
+unbalanced_force_ratio = 1e-15
+max_steps = 7
+)";
+
+TEST(Stages, EachEndEndsItsStage) {
+  const Config c = read_config_string(kEnds, "ends.toml");
+  Model<2> m = build_model<2>(c);
+  std::vector<double> top;
+  const RunSummary s = run_simulation<2>(m, c, no_output());
+  ASSERT_EQ(s.stages.size(), 5u);
+  const auto& r = s.stages;
+  EXPECT_EQ(r[0].end, "steps");
+  EXPECT_EQ(r[0].end_step, 30);
+  EXPECT_EQ(r[1].end, "recorder top");
+  EXPECT_EQ(r[2].end, "duration");
+  EXPECT_NEAR(r[2].end_time - r[2].start_time, 0.05, 1e-12) << "the last step lands on the stage's end";
+  EXPECT_EQ(r[3].end, "equilibrium");
+  EXPECT_LT(r[3].kinetic_energy_ratio, 1e-3);
+  EXPECT_EQ(r[4].end, "max_steps");
+  EXPECT_EQ(r[4].end_step - r[4].start_step, 7);
+  for (std::size_t k = 1; k < r.size(); ++k) {
+    EXPECT_EQ(r[k].start_step, r[k - 1].end_step);
+    EXPECT_EQ(r[k].start_time, r[k - 1].end_time);
+  }
+  // The recorder's stage ended at the first step past its bound: the step before was above it.
+  const auto recorders = make_recorders<2>(c, m);
+  EXPECT_LE(recorders[0].value(m.particles), 0.0);
 }
 
 }  // namespace

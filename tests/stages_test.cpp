@@ -319,4 +319,18 @@ TEST(Stages, EachEndEndsItsStage) {
   EXPECT_LE(recorders[0].value(m.particles), 0.0);
 }
 
+TEST(Stages, AnEmptyPrescribedVelocityFreesABody) {
+  // The motion keys of [stages.bodies.NAME] replace the body's: {} leaves no component held.
+  const std::string text = replace(kEnds, "max = [1.0, 4.0]\n", "max = [1.0, 4.0]\nprescribed_velocity = { y = -0.01 }\n") +
+                           "[stages.bodies.column]\nprescribed_velocity = {}\n";
+  const Config c = read_config_string(text, "free.toml");
+  EXPECT_TRUE(c.stages[3].config->bodies[0].prescribed[1]);
+  EXPECT_FALSE(c.stages[4].config->bodies[0].prescribed[1]);
+  EXPECT_EQ(c.stages[4].changes_motion, std::vector<int>{0});
+  Model<2> m = build_model<2>(c);
+  EXPECT_TRUE(m.motion[0].any);
+  reconfigure(m, c, 4, 1.0);
+  EXPECT_FALSE(m.motion[0].any);
+}
+
 }  // namespace

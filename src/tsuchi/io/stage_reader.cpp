@@ -85,7 +85,14 @@ void merge_named(toml::table& root, toml::table& stage, Section& s, std::string_
         c.fail(k.str(), fmt::format("a stage may change a body's {}; the rest is fixed when the body is made",
                                     list(*allowed)));
     }
-    merge(*target, std::move(*change));
+    // A body's motion keys are replaced whole, so that `prescribed_velocity = {}` frees the body;
+    // a material's keys are values anyway.
+    if (allowed) {
+      for (auto&& [k, kv] : *change)
+        kv.visit([&, key = std::string(k.str())](auto&& value) { target->insert_or_assign(key, std::move(value)); });
+    } else {
+      merge(*target, std::move(*change));
+    }
   }
 }
 

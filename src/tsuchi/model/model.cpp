@@ -433,18 +433,8 @@ Model<D> build_model(const Config& c) {
   m.fingerprint = c.fingerprint;
   m.materials = c.materials;
   for (const auto& b : c.bodies) m.body_names.push_back(b.name);
-  m.step.scheme = c.solver.scheme;
-  m.step.kernel = c.solver.shape;
-  m.step.pic_fraction = c.solver.pic_fraction;
-  m.step.velocity_transfer = c.solver.velocity_transfer;
-  m.step.anti_locking.assign(c.materials.size(), c.solver.anti_locking);
-  for (std::size_t k = 0; k < c.material_anti_locking.size() && k < c.materials.size(); ++k)
-    if (c.material_anti_locking[k]) m.step.anti_locking[k] = *c.material_anti_locking[k];
-  m.step.hold_released_volume = c.solver.hold_released_volume;
-  m.step.damping = c.solver.damping;
-  for (int d = 0; d < D; ++d) m.step.gravity[d] = c.gravity[d];
+  m.step.set_from(c);
   if (c.gravity_function >= 0) m.step.gravity_function = c.functions[static_cast<std::size_t>(c.gravity_function)].f;
-  m.step.sort_interval = c.solver.sort_interval;
   declare_state_columns(m.particles);
   m.particles.affine = c.solver.velocity_transfer == VelocityTransfer::Apic;
   for (int d = 0; d < D; ++d) {

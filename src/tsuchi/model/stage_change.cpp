@@ -121,22 +121,13 @@ void reconfigure(Model<D>& m, const Config& run, std::size_t k, double t0) {
     }
   }
   // The step's settings: cheap, so always from the stage's input.
-  m.step.scheme = c.solver.scheme;
-  m.step.kernel = c.solver.shape;
-  m.step.pic_fraction = c.solver.pic_fraction;
-  m.step.anti_locking.assign(c.materials.size(), c.solver.anti_locking);
-  for (std::size_t j = 0; j < c.material_anti_locking.size() && j < c.materials.size(); ++j)
-    if (c.material_anti_locking[j]) m.step.anti_locking[j] = *c.material_anti_locking[j];
-  m.step.hold_released_volume = c.solver.hold_released_volume;
-  m.step.damping = c.solver.damping;
-  m.step.sort_interval = c.solver.sort_interval;
+  m.step.set_from(c);
   if (c.solver.mass_threshold != before.solver.mass_threshold) {
     double lightest = std::numeric_limits<double>::infinity();
     for (const Particles<D>* p : {&m.particles, &m.dormant})
       for (const double mass : p->m_p) lightest = std::min(lightest, mass);
     m.step.node_mass_floor = c.solver.mass_threshold * lightest;
   }
-  for (int d = 0; d < D; ++d) m.step.gravity[d] = c.gravity[d];
   if (st.changes_gravity)
     m.step.gravity_function = c.gravity_function >= 0
                                   ? c.functions[static_cast<std::size_t>(c.gravity_function)].f.starting_at(t0)

@@ -26,6 +26,22 @@ struct StepSettings {
 
   // GIMP updates the particle domains (eq 14); uGIMP keeps them, linear has none.
   bool domain_update() const { return kernel == ShapeKind::Gimp; }
+
+  // The settings the input's [solver] and gravity give (not the gravity function, nor the mass
+  // floor, which depend on the run's clock and particles): at the start and at each stage.
+  void set_from(const Config& c) {
+    scheme = c.solver.scheme;
+    kernel = c.solver.shape;
+    pic_fraction = c.solver.pic_fraction;
+    velocity_transfer = c.solver.velocity_transfer;
+    anti_locking.assign(c.materials.size(), c.solver.anti_locking);
+    for (std::size_t k = 0; k < c.material_anti_locking.size() && k < c.materials.size(); ++k)
+      if (c.material_anti_locking[k]) anti_locking[k] = *c.material_anti_locking[k];
+    hold_released_volume = c.solver.hold_released_volume;
+    damping = c.solver.damping;
+    for (int d = 0; d < D; ++d) gravity[d] = c.gravity[d];
+    sort_interval = c.solver.sort_interval;
+  }
 };
 
 }  // namespace tsuchi

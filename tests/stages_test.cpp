@@ -292,6 +292,11 @@ max_steps = 20000
 name = "by_max_steps"
 unbalanced_force_ratio = 1e-15
 max_steps = 7
+
+[[stages]]
+name = "met_at_once"
+unbalanced_force_ratio = 0.9
+max_steps = 100
 )";
 
 TEST(Stages, EachEndEndsItsStage) {
@@ -299,7 +304,7 @@ TEST(Stages, EachEndEndsItsStage) {
   Model<2> m = build_model<2>(c);
   std::vector<double> top;
   const RunSummary s = run_simulation<2>(m, c, no_output());
-  ASSERT_EQ(s.stages.size(), 5u);
+  ASSERT_EQ(s.stages.size(), 6u);
   const auto& r = s.stages;
   EXPECT_EQ(r[0].end, "steps");
   EXPECT_EQ(r[0].end_step, 30);
@@ -310,6 +315,11 @@ TEST(Stages, EachEndEndsItsStage) {
   EXPECT_LT(r[3].kinetic_energy_ratio, 1e-3);
   EXPECT_EQ(r[4].end, "max_steps");
   EXPECT_EQ(r[4].end_step - r[4].start_step, 7);
+  // A tolerance met at once is judged only from the stage's equilibrium_first_step-th step: the
+  // first solves of a stage see the stresses of before its changes.
+  EXPECT_EQ(r[5].end, "equilibrium");
+  EXPECT_EQ(r[5].end_step - r[5].start_step, equilibrium_first_step);
+  EXPECT_GE(r[3].end_step - r[3].start_step, equilibrium_first_step);
   for (std::size_t k = 1; k < r.size(); ++k) {
     EXPECT_EQ(r[k].start_step, r[k - 1].end_step);
     EXPECT_EQ(r[k].start_time, r[k - 1].end_time);
@@ -324,12 +334,13 @@ TEST(Stages, AnEmptyPrescribedVelocityFreesABody) {
   const std::string text = replace(kEnds, "max = [1.0, 4.0]\n", "max = [1.0, 4.0]\nprescribed_velocity = { y = -0.01 }\n") +
                            "[stages.bodies.column]\nprescribed_velocity = {}\n";
   const Config c = read_config_string(text, "free.toml");
-  EXPECT_TRUE(c.stages[3].config->bodies[0].prescribed[1]);
-  EXPECT_FALSE(c.stages[4].config->bodies[0].prescribed[1]);
-  EXPECT_EQ(c.stages[4].changes_motion, std::vector<int>{0});
+  EXPECT_TRUE(c.stages[4].config->bodies[0].prescribed[1]);
+  EXPECT_FALSE(c.stages[5].config->bodies[0].prescribed[1]);
+  EXPECT_EQ(c.stages[5].changes_motion, std::vector<int>{0});
+  EXPECT_TRUE(c.stages[5].changes_body_material.empty());
   Model<2> m = build_model<2>(c);
   EXPECT_TRUE(m.motion[0].any);
-  reconfigure(m, c, 4, 1.0);
+  reconfigure(m, c, 5, 1.0);
   EXPECT_FALSE(m.motion[0].any);
 }
 

@@ -843,6 +843,10 @@ Config read_input(const std::string& text, const std::string& file, const std::v
     stages.push_back(std::move(st));
   }
   Config c = *stages.front().config;
+  // The warnings of every stage's input, each once (a stage's value that looks like a slip of units).
+  for (std::size_t k = 1; k < stages.size(); ++k)
+    for (const auto& w : stages[k].config->warnings)
+      if (std::find(c.warnings.begin(), c.warnings.end(), w) == c.warnings.end()) c.warnings.push_back(w);
   c.stages = std::move(stages);
   c.fingerprint = fingerprint(root);
   for (const std::uint64_t d : c.file_digests) c.fingerprint = (c.fingerprint ^ d) * 1099511628211ull;

@@ -32,7 +32,7 @@ void merge(toml::table& into, toml::table&& from) {
       merge(*dst, std::move(*v.as_table()));
       continue;
     }
-    v.visit([&, key = std::string(k.str())](auto&& value) { into.insert_or_assign(key, std::move(value)); });
+    v.visit([&](auto&& value) { into.insert_or_assign(k, std::move(value)); });  // the key keeps its place in the file
   }
 }
 
@@ -88,8 +88,14 @@ void merge_named(toml::table& root, toml::table& stage, Section& s, std::string_
     // A body's motion keys are replaced whole, so that `prescribed_velocity = {}` frees the body;
     // a material's keys are values anyway.
     if (allowed) {
-      for (auto&& [k, kv] : *change)
-        kv.visit([&, key = std::string(k.str())](auto&& value) { target->insert_or_assign(key, std::move(value)); });
+      for (auto&& [k, kv] : *change) kv.visit([&](auto&& value) { target->insert_or_assign(k, std::move(value)); });
+    } else if (change->contains("model")) {
+      // Another model: its own keys, not the old one's (a Mohr-Coulomb cohesion would be unknown
+      // to an elastic model); the name stays.
+      toml::table fresh;
+      fresh.insert("name", n);
+      for (auto&& [k, kv] : *change) kv.visit([&](auto&& value) { fresh.insert_or_assign(k, std::move(value)); });
+      *target = std::move(fresh);
     } else {
       merge(*target, std::move(*change));
     }
@@ -136,6 +142,11 @@ toml::table merge_stages(toml::table root, std::size_t last, const std::string& 
           .fail("velocity_transfer", "the velocity transfer holds for the whole run (APIC particles carry a matrix FLIP ones do not)");
     if (stage.contains("materials")) merge_named(root, stage, s, "materials", nullptr);
     if (stage.contains("bodies")) merge_named(root, stage, s, "bodies", &body_keys);
+    // dt and courant are one choice: the stage's replaces the input's.
+    if (const auto* t = stage.get_as<toml::table>("time"); t && root.get_as<toml::table>("time")) {
+      if (t->contains("dt")) root.get_as<toml::table>("time")->erase("courant");
+      if (t->contains("courant")) root.get_as<toml::table>("time")->erase("dt");
+    }
     for (const char* name : {"model", "solver", "time", "boundary", "loads"}) {
       toml::node* n = stage.get(name);
       if (!n) continue;
@@ -205,6 +216,10 @@ StageConfig read_stage(const toml::table& root, std::size_t k, const Config& dur
   };
   bodies("remove", st.remove);
   bodies("add", st.add);
+  for (const char* key : {"remove", "add"})
+    if (k == 0 && s.has(key))
+      s.fail(key, fmt::format("expected no '{}' in the first stage: the model starts with the bodies that have no 'add'; "
+                              "a body to dig out later is removed by a later stage", key));
   for (const int b : st.remove)
     if (std::find(st.add.begin(), st.add.end(), b) != st.add.end())
       s.fail("add", fmt::format("body \"{}\" is both removed and added by this stage",
@@ -214,16 +229,23 @@ StageConfig read_stage(const toml::table& root, std::size_t k, const Config& dur
     s.fail("reset_displacements", "expected no reset in the first stage: nothing has moved before it");
   // What the stage changes (merge_stages has checked the tables).
   for (const char* key : {"model", "solver", "time", "boundary", "loads", "materials", "bodies"}) s.get(key);
-  if (const auto* m = t.get_as<toml::table>("model"))
+  if (const auto* m = t.get_as<toml::table>("model")) {
     st.changes_gravity = m->contains("gravity") || m->contains("gravity_function");
+    st.sets_gravity_function = m->contains("gravity_function");
+  }
+  if (const auto* b = t.get_as<toml::table>("boundary")) st.sets_node_sets = b->contains("nodes");
   st.changes_loads = t.contains("loads");
   st.changes_boundary = t.contains("boundary");
   st.changes_materials = t.contains("materials");
   st.changes_solver = t.contains("solver");
   if (const auto* b = t.get_as<toml::table>("bodies"))
     for (auto&& [name, v] : *b)
-      for (std::size_t i = 0; i < during.bodies.size(); ++i)
-        if (during.bodies[i].name == name.str()) st.changes_motion.push_back(static_cast<int>(i));
+      for (std::size_t i = 0; i < during.bodies.size(); ++i) {
+        if (during.bodies[i].name != name.str() || !v.is_table()) continue;
+        const auto& keys = *v.as_table();
+        if (keys.contains("material")) st.changes_body_material.push_back(static_cast<int>(i));
+        if (keys.size() > (keys.contains("material") ? 1u : 0u)) st.changes_motion.push_back(static_cast<int>(i));
+      }
   s.finish();
   return st;
 }

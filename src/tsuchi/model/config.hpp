@@ -287,8 +287,11 @@ struct StageConfig {
   // Which parts of the input the stage changes: their functions of time start at the stage's start,
   // and only they are rebuilt (an unchanged load keeps its particles and forces).
   bool changes_gravity = false, changes_loads = false, changes_boundary = false;
+  // Which functions of time the stage sets (they start with it; the others keep their clocks).
+  bool sets_gravity_function = false, sets_node_sets = false;
   bool changes_materials = false, changes_solver = false;
-  std::vector<int> changes_motion;       // bodies whose prescribed motion or material the stage sets
+  std::vector<int> changes_motion;       // bodies whose prescribed motion the stage sets
+  std::vector<int> changes_body_material;  // bodies given another material
   std::shared_ptr<const Config> config;
 };
 

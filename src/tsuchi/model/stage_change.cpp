@@ -108,7 +108,7 @@ void reconfigure(Model<D>& m, const Config& run, std::size_t k, double t0) {
     }
   }
   // A body given another material: its particles of the old one (not those of its regions).
-  for (const int b : st.changes_motion) {
+  for (const int b : st.changes_body_material) {
     const auto ub = static_cast<std::size_t>(b);
     const int from = before.bodies[ub].material_index, to = c.bodies[ub].material_index;
     if (from == to) continue;
@@ -128,19 +128,25 @@ void reconfigure(Model<D>& m, const Config& run, std::size_t k, double t0) {
       for (const double mass : p->m_p) lightest = std::min(lightest, mass);
     m.step.node_mass_floor = c.solver.mass_threshold * lightest;
   }
-  if (st.changes_gravity)
+  if (st.sets_gravity_function)
     m.step.gravity_function = c.gravity_function >= 0
                                   ? c.functions[static_cast<std::size_t>(c.gravity_function)].f.starting_at(t0)
                                   : TimeFunction{};
   if (st.changes_boundary) {
+    // Node sets the stage does not give keep their clocks.
+    std::vector<double> starts;
+    for (const auto& set : m.node_sets) starts.push_back(set.f.start());
     set_boundary_conditions(c, m.grid, m.node_sets, m.held_nodes);
-    for (auto& set : m.node_sets) set.f = set.f.starting_at(t0);
+    for (std::size_t k2 = 0; k2 < m.node_sets.size(); ++k2)
+      m.node_sets[k2].f = m.node_sets[k2].f.starting_at(st.sets_node_sets ? t0 : starts[k2]);
   }
   for (const int b : st.changes_motion) {
     BodyMotion<D> motion = body_motion<D>(c, b);
     motion.function = motion.function.starting_at(t0);
     m.motion[static_cast<std::size_t>(b)] = motion;
   }
+  // Frictional walls and rigid bodies follow the boundary and the motions (the pairs cannot change).
+  if (st.changes_boundary || !st.changes_motion.empty()) m.contact = build_contact<D>(c, m);
   if (st.changes_loads) {
     m.loads = build_loads<D>(c, m.particles, m.grid);
     for (auto& l : m.loads.surface) l.function = l.function.starting_at(t0);

@@ -22,9 +22,6 @@ namespace tsuchi {
 
 namespace {
 
-// Steps before the equilibrium test of a trial (see run_trial).
-constexpr std::int64_t kFirstJudgedStep = 20;
-
 bool reducible(const Material& m) {
   return std::visit([](const auto& model) { return requires { model.reduced(1.0, false); }; }, m.model);
 }
@@ -67,7 +64,7 @@ FosTrial run_trial(const Model<D>& base, const Config& during, const FosConfig& 
       }
       // The reduced strength acts from the first stress update on, and the forces it leaves out of
       // balance show in the solves after it: the ratio of the first steps still reflects the old state.
-      if (n >= kFirstJudgedStep && t.unbalanced_force_ratio < f.unbalanced_force_ratio) {
+      if (n >= equilibrium_first_step && t.unbalanced_force_ratio < f.unbalanced_force_ratio) {
         t.reason = "equilibrium";
         break;
       }
@@ -116,7 +113,18 @@ FosResult factor_of_safety(const Config& config, const FosOptions& options) {
                                   r.stage, r.stages, r.name, r.end, r.end_step, r.end_time, r.unbalanced_force_ratio));
   };
   const RunSummary run = run_simulation<D>(model, config, ro);
-  if (!run.stopped_by.empty() && options.on_note) options.on_note("the analysis stopped: " + run.stopped_by);
+  // The trials start from the end of the [fos] stage, or of the whole run: not from a state the
+  // analysis stopped at on the way.
+  // (A single-stage run may end by a recorder's bound on the ratio: its equilibrium.)
+  const bool finished = config.staged() ? run.stopped_by.empty() && !run.stages.empty() &&
+                                              run.stages.back().stage == f.after_stage + 1
+                                        : !run.stopped_by.empty() || run.time >= config.time.end * (1.0 - 1e-12);
+  if (!finished)
+    throw RunError(fmt::format("the analysis stopped before {} ({}); the factor of safety is sought from its end",
+                               config.staged() ? fmt::format("the end of stage \"{}\"", config.stages[static_cast<std::size_t>(f.after_stage)].name)
+                                               : std::string("time.end"),
+                               run.stopped_by.empty() ? std::string("time.max_steps") : run.stopped_by),
+                   Fault::Other);
   // The search takes F = 1 (the analysis' state) to stand: say so when that state is not at rest.
   if (!run.stages.empty() && run.stages.back().equilibrium_asked && run.stages.back().end != "equilibrium" &&
       options.on_note)

@@ -53,12 +53,9 @@ std::vector<std::size_t> support_nodes(const RecorderConfig& c, std::size_t inde
 }  // namespace
 
 template <int D>
-Recorder<D>::Recorder(const RecorderConfig& config, std::size_t index, const Model<D>& model) : c_(config) {
-  // A frictional face is a wall of the contact stage: its reaction is the wall's force.
-  if (c_.face >= 0)
-    for (std::size_t w = 0; w < model.contact.walls.size(); ++w)
-      if (model.contact.walls[w].face == c_.face) wall_ = static_cast<int>(w);
-  if ((c_.face >= 0 && wall_ < 0) || c_.node_set >= 0) held_ = support_nodes<D>(c_, index, model);
+Recorder<D>::Recorder(const RecorderConfig& config, std::size_t index, const Model<D>& model)
+    : c_(config), index_in_input_(index) {
+  rebind(model);
   if (c_.from_solver()) return;  // no particle set
   const auto q = find_recorder_quantity(c_.quantity, D);
   if (!q) throw InputError(fmt::format("recorder \"{}\": unknown quantity \"{}\"", c_.name, c_.quantity));
@@ -84,6 +81,22 @@ Recorder<D>::Recorder(const RecorderConfig& config, std::size_t index, const Mod
                                  model.source, index, c_.name,
                                  c_.body >= 0 ? fmt::format("body \"{}\"", model.body_names[static_cast<std::size_t>(c_.body)])
                                               : std::string("any body")));
+}
+
+template <int D>
+void Recorder<D>::rebind(const Model<D>& model) {
+  // A frictional face is a wall of the contact stage: its reaction is the wall's force.
+  wall_ = -1;
+  if (c_.face >= 0)
+    for (std::size_t w = 0; w < model.contact.walls.size(); ++w)
+      if (model.contact.walls[w].face == c_.face) wall_ = static_cast<int>(w);
+  held_.clear();
+  if (c_.node_set >= 0 && static_cast<std::size_t>(c_.node_set) >= model.node_sets.size())
+    throw InputError(fmt::format("{}: key 'recorders.{}': recorder \"{}\" records the reaction of node set {}, which the "
+                                 "boundary no longer has (a stage replaced [[boundary.nodes]])",
+                                 model.source, index_in_input_, c_.name, c_.node_set + 1));
+  if ((c_.face >= 0 && wall_ < 0) || c_.node_set >= 0) held_ = support_nodes<D>(c_, index_in_input_, model);
+  scanned_size_ = static_cast<std::size_t>(-1);
 }
 
 template <int D>

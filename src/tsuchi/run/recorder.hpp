@@ -28,11 +28,15 @@ class Recorder {
   bool from_solver() const { return c_.from_solver(); }
   const RecorderConfig& config() const { return c_; }
   std::size_t size() const { return count_; }
+  // At the start of a stage: the supports and walls the stage's boundary gives (a reaction's
+  // nodes), and the particle set found again among the particles the stage removed or added.
+  void rebind(const Model<D>& model);
   // Non-empty when the value has crossed its stop bound: says which and where.
   std::string stop_reason(double value) const;
 
  private:
   RecorderConfig c_;
+  std::size_t index_in_input_ = 0;
   const ParticleField* field_ = nullptr;
   int component_ = 0;
   // Membership by particle id, not storage index: particles are reordered during a run (and a

@@ -142,13 +142,13 @@ double stage_settles_at(const Model<D>& m, const Config& run, std::size_t k) {
   double t = -std::numeric_limits<double>::infinity();
   const bool all = !run.staged() || k == 0;
   const StageConfig* st = run.staged() ? &run.stages[k] : nullptr;
-  if (all || st->changes_gravity) t = std::max(t, m.step.gravity_function.settles_at());
+  if (all || st->sets_gravity_function) t = std::max(t, m.step.gravity_function.settles_at());
   if (all || st->changes_loads) {
     for (const auto& l : m.loads.surface) t = std::max(t, l.function.settles_at());
     for (const auto& l : m.loads.nodal) t = std::max(t, l.function.settles_at());
     for (const auto& l : m.loads.body) t = std::max(t, l.function.settles_at());
   }
-  if (all || st->changes_boundary)
+  if (all || st->sets_node_sets)
     for (const auto& n : m.node_sets) t = std::max(t, n.f.settles_at());
   for (std::size_t b = 0; b < m.motion.size(); ++b)
     if (all || std::find(st->changes_motion.begin(), st->changes_motion.end(), static_cast<int>(b)) != st->changes_motion.end())
@@ -180,7 +180,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   const std::string dir = options.output_directory.value_or(oc.directory);
   const std::string ck_path = checkpoint_path(config, dir);
   // Particle sets are chosen on the initial state, before a checkpoint replaces it.
-  const std::vector<Recorder<D>> recorders = make_recorders<D>(config, model);
+  std::vector<Recorder<D>> recorders = make_recorders<D>(config, model);
   std::vector<std::string> recorder_names;
   for (const auto& r : recorders) recorder_names.push_back(r.config().name);
   std::vector<double> recorder_values(recorders.size());
@@ -200,6 +200,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
     start = read_checkpoint<D>(*options.restart, model, [&](const RunProgress& r) {
       if (staged) restore_stage(model, config, static_cast<std::size_t>(r.stage), r.stage_starts);
     });
+    for (auto& r : recorders) r.rebind(model);
     // Past the end there is nothing to run, and a last frame there would lie beyond time.end.
     if (!staged && start.time > end * (1.0 + 1e-12))
       throw InputError(fmt::format("{}: the checkpoint {} is at t = {:.9g} s, past time.end = {:.9g} s: nothing to "
@@ -299,8 +300,14 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
       const double t0 = solver->time();
       if (!resuming) {
         if (staged && stage > 0) {
-          change_particles(model, config, stage);
-          reconfigure(model, config, stage, t0);
+          try {
+            change_particles(model, config, stage);
+            reconfigure(model, config, stage, t0);
+            for (auto& r : recorders) r.rebind(model);
+          } catch (const InputError& e) {
+            throw InputError(fmt::format("stage {} \"{}\" (t = {:.6g} s): {}", stage + 1, config.stages[stage].name, t0,
+                                         e.what()));
+          }
           const std::int64_t steps = solver->steps();
           solver.emplace(model);  // its per-step arrays start again from the new model, as on a restart
           solver->resume(t0, steps);
@@ -308,6 +315,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         stage_starts.resize(stage + 1), stage_start_steps.resize(stage + 1);
         stage_starts[stage] = t0, stage_start_steps[stage] = solver->steps();
         peak_kinetic = 0.0;
+        latest_kinetic_ratio = std::numeric_limits<double>::quiet_NaN();
         // The stage's frames open with the one of its start: the run's first, or the previous stage's last.
         stage_first_frame = out ? std::max<std::int64_t>(0, static_cast<std::int64_t>(out->frames_written()) - 1) : 0;
       }
@@ -345,6 +353,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         // end; a restart from its checkpoint continues the stage).
         if (staged && tc.max_steps > 0 && solver->steps() >= tc.max_steps) {
           run_limit_hit = true;
+          stopped_by = fmt::format("time.max_steps = {} reached in stage {} \"{}\"", tc.max_steps, stage + 1,
+                                   config.stages[stage].name);
           break;
         }
         if (step_limit > 0 && solver->steps() >= step_limit) {
@@ -450,7 +460,10 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
             peak_kinetic = std::max(peak_kinetic, ke);
             latest_kinetic_ratio = peak_kinetic > 0.0 ? ke / peak_kinetic : 0.0;
           }
-          if (e.equilibrium() && now >= settles) {
+          // Not before the stage's equilibrium_first_step-th step: the first solves of a stage still
+          // see the stresses of the state before its changes.
+          const bool judged = solver->steps() - stage_start_steps[stage] >= equilibrium_first_step;
+          if (e.equilibrium() && now >= settles && judged) {
             const bool force_ok = !equilibrium_ratio || solver->unbalanced_force_ratio() < *equilibrium_ratio;
             const bool energy_ok = !kinetic_ratio || latest_kinetic_ratio < *kinetic_ratio;
             if (force_ok && energy_ok) stage_end = "equilibrium";
@@ -460,6 +473,11 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
             if ((e.above && v >= *e.above) || (e.below && v <= *e.below))
               stage_end = fmt::format("recorder {}", recorders[static_cast<std::size_t>(e.recorder)].config().name);
           }
+          // The step and duration ends at once, so that no checkpoint is saved at a stage's end
+          // before that end has been taken (a restart would end the stage without a step).
+          if (stage_end.empty() && step_limit > 0 && solver->steps() >= step_limit)
+            stage_end = e.steps > 0 && solver->steps() >= stage_start_steps[stage] + e.steps ? "steps" : "max_steps";
+          if (stage_end.empty() && now >= end * (1.0 - 1e-12)) stage_end = "duration";
           if (!stage_end.empty()) progress.fraction = 1.0;
         }
         if (!stopped_by.empty()) progress.fraction = 1.0;

@@ -91,6 +91,9 @@ struct StopForecast {
 };
 std::optional<StopForecast> forecast_stop(const Config& config);
 
+// A stage's equilibrium (and a factor-of-safety trial's) is judged from its this-many-th step on.
+inline constexpr std::int64_t equilibrium_first_step = 20;
+
 // Without time.max_steps a run may take at most this many steps; and no run more frames than this.
 inline constexpr double default_step_limit = 1e8;
 inline constexpr double frame_limit = 1e5;

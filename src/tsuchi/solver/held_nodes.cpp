@@ -24,7 +24,8 @@ bool HeldNodes<D>::drives(const Model<D>& m) const {
 }
 
 double FunctionIntegral::operator()(double t) {
-  if (f_->is_one()) return t;  // exact: a constant acceleration gives a0 t at every step's end
+  // Exact: a constant acceleration gives a0 t at every step's end (from its stage's start).
+  if (f_->is_one()) return std::max(0.0, t - f_->start());
   const auto K = static_cast<std::size_t>(std::max(0.0, std::floor(t / kChunk)));
   while (at_.size() <= K) {
     const double a = static_cast<double>(at_.size() - 1) * kChunk;

@@ -13,6 +13,7 @@
 #include "tsuchi/io/output_writer.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
+#include "tsuchi/model/stage_change.hpp"
 #include "tsuchi/run/factor_of_safety.hpp"
 #include "tsuchi/run/recorder.hpp"
 #include "tsuchi/run/simulation.hpp"
@@ -201,6 +202,7 @@ int check(const Config& c) {
   check_output_paths(c, c.output.directory, checkpoint_path(c, c.output.directory));
   const Model<D> m = build_model<D>(c);
   make_recorders<D>(c, m);  // an empty particle set is an input error
+  check_stages<D>(m, c);    // what a later stage would meet at its start
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
   if (!c.staged()) check_run_length(c, next_time_step(c.time, dt_crit, 0, c.source));
   print_summary<D>(c, m, c.output.directory);
@@ -220,6 +222,7 @@ template <int D>
 int run(const Config& c, const Options& o) {
   Model<D> m = build_model<D>(c);
   make_recorders<D>(c, m);  // an empty particle set is an input error, found before the summary
+  check_stages<D>(m, c);    // and what a later stage would meet at its start, not hours into the run
   if (!o.quiet) print_summary<D>(c, m, o.output.empty() ? c.output.directory : o.output);
   RunOptions ro;
   ro.resume_command = resume_command(o);

@@ -2,6 +2,9 @@
 
 #include "tsuchi/core/principal_frame.hpp"
 #include "tsuchi/model/material_state.hpp"
+#include "tsuchi/core/errors.hpp"
+
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cstring>
@@ -163,6 +166,22 @@ void restore_stage(Model<D>& m, const Config& run, std::size_t k, const std::vec
   }
 }
 
+template <int D>
+void check_stages(const Model<D>& m, const Config& run) {
+  if (run.stages.size() < 2) return;
+  Model<D> copy = m;
+  for (std::size_t k = 1; k < run.stages.size(); ++k) {
+    try {
+      change_particles(copy, run, k);
+      reconfigure(copy, run, k, 0.0);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("stage {} \"{}\": {}", k + 1, run.stages[k].name, e.what()));
+    }
+  }
+}
+
+template void check_stages<2>(const Model<2>&, const Config&);
+template void check_stages<3>(const Model<3>&, const Config&);
 template void move_bodies<2>(Particles<2>&, Particles<2>&, const std::vector<std::int32_t>&);
 template void move_bodies<3>(Particles<3>&, Particles<3>&, const std::vector<std::int32_t>&);
 template void change_particles<2>(Model<2>&, const Config&, std::size_t);

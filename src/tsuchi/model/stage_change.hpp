@@ -34,6 +34,14 @@ void reconfigure(Model<D>& m, const Config& run, std::size_t k, double t0);
 template <int D>
 void restore_stage(Model<D>& m, const Config& run, std::size_t k, const std::vector<double>& starts);
 
+// Every later stage applied in turn to a copy of the model as built: the errors a stage would
+// meet at its start (a load box that selects no particle, a node set with no node, a recorder's
+// node set gone) found before the run, naming the stage. The particles are those of the start.
+template <int D>
+void check_stages(const Model<D>& m, const Config& run);
+
+extern template void check_stages<2>(const Model<2>&, const Config&);
+extern template void check_stages<3>(const Model<3>&, const Config&);
 extern template void move_bodies<2>(Particles<2>&, Particles<2>&, const std::vector<std::int32_t>&);
 extern template void move_bodies<3>(Particles<3>&, Particles<3>&, const std::vector<std::int32_t>&);
 extern template void change_particles<2>(Model<2>&, const Config&, std::size_t);

@@ -17,7 +17,7 @@
       * at gamma H / c = 4.5 (c by --set) the crest settles more than 150 mm (measured 304 mm):
         the cut fails (exact limit 3.776; on this grid the limit lies near 4.0-4.1, README).
   - restart: the excavation at 4.5 with stage 2 cut to 2 s, stopped by time.max_steps inside
-    stage 2 (and once right at the end of stage 1) and continued with --restart from its
+    stage 2 (and once right at the end of stage 1, which stops at the start of stage 2) and continued with --restart from its
     checkpoint, ends with every file of its output directory byte-identical to an unstopped run.
 
 usage: staged_test.py PATH_TO_TSUCHI
@@ -210,8 +210,27 @@ class StagedRestart(Tmp):
         self.assertEqual(rows[-1]["stage"], "2")
 
     def test_stopped_at_the_end_of_stage_one(self):
-        rows = self.split_at(1)
+        # Stage 1 (greenfield, at rest from the start) ends at its 20th step, where equilibrium is
+        # first judged; the run then stops at the start of stage 2, after its removal.
+        rows = self.split_at(20)
         self.assertEqual(rows[-1]["stage"], "1")
+
+    def test_restart_from_an_earlier_stage_drops_the_later_stage_pvd(self):
+        # A run that went on past its checkpoint wrote particles_stage2.pvd; a restart from the
+        # checkpoint in stage 1 that stops before stage 2 must not leave it listing removed frames.
+        self.assertEqual(self.r_whole.returncode, 0, self.r_whole.stdout)
+        out = os.path.join(self.tmp, "earlier")
+        r = run(EXCAVATION, "-o", out, *self.SETS, "--set", "time.max_steps=10")
+        self.assertEqual(r.returncode, 0, r.stdout)
+        ck = os.path.join(self.tmp, "earlier.tsuchi")
+        shutil.copyfile(os.path.join(out, "checkpoint.tsuchi"), ck)
+        r = run(EXCAVATION, "-o", out, *self.SETS, "--restart", ck)
+        self.assertEqual(r.returncode, 0, r.stdout)
+        self.assertTrue(os.path.exists(os.path.join(out, "particles_stage2.pvd")))
+        r = run(EXCAVATION, "-o", out, *self.SETS, "--restart", ck, "--set", "time.max_steps=15")
+        self.assertEqual(r.returncode, 0, r.stdout)
+        self.assertFalse(os.path.exists(os.path.join(out, "particles_stage2.pvd")))
+        self.assertEqual(len(read_rows(os.path.join(out, "stages.csv"))), 0)
 
 
 if __name__ == "__main__":

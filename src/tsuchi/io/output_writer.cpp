@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 namespace tsuchi {
 
@@ -113,15 +114,29 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output,
   // Frames of an earlier run (or written after the checkpoint by a killed one) would mix with this
   // run's in ParaView's view of the file series: remove every frame this run does not list.
   std::error_code ec;
+  // Stages ended by the checkpoint's time: their rows in stages.csv (the header aside). A later
+  // stage's .pvd was written by a killed run after the checkpoint and lists frames removed below.
+  std::int64_t stages_ended = 0;
+  if (resume && staged_) {
+    std::ifstream in(dir_ + "/stages.csv", std::ios::binary);
+    std::string text(static_cast<std::size_t>(h_.stages_bytes), '\0');
+    in.read(text.data(), static_cast<std::streamsize>(text.size()));
+    stages_ended = std::max<std::int64_t>(0, std::count(text.begin(), text.end(), '\n') - 1);
+  }
   for (const auto& entry : fs::directory_iterator(dir_, ec)) {
     const std::string name = entry.path().filename().string();
     // contact_NNNNNN.vtu goes with particles_NNNNNN.vtu: kept while that frame is listed.
     const std::string frame = name.rfind("contact_", 0) == 0 ? "particles_" + name.substr(8) : name;
     const bool listed = std::any_of(h_.frames.begin(), h_.frames.end(), [&](const auto& f) { return f.second == frame; });
-    const bool stage_pvd = name.rfind("particles_stage", 0) == 0 && name.size() > 19 &&
-                           name.compare(name.size() - 4, 4, ".pvd") == 0;
+    bool stage_pvd = name.rfind("particles_stage", 0) == 0 && name.size() > 19 &&
+                     name.compare(name.size() - 4, 4, ".pvd") == 0;
+    if (stage_pvd && resume) {
+      const std::string digits = name.substr(15, name.size() - 19);
+      const bool number = std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return c >= '0' && c <= '9'; });
+      stage_pvd = number && digits.size() < 10 && std::stoll(digits) > stages_ended;  // stale: remove
+    }
     if ((is_frame_file_name(frame) && !listed) || (name == "recorders.csv" && recorders_.empty()) ||
-        (name == "stages.csv" && !staged_) || (stage_pvd && !resume) ||
+        (name == "stages.csv" && !staged_) || stage_pvd ||
         (name == "contact.pvd" && (h_.frames.empty() || !model.contact.active())))
       fs::remove(entry.path(), ec);
   }

@@ -190,6 +190,8 @@ TEST(Stages, MessagesNameTheStageAndKey) {
   expect_message(message({"stages.1.remove=[\"blok\"]"}), {"stages.1.remove", "\"ground\"", "\"blok\""});
   expect_message(message({"stages.2.remove=[\"block\"]"}), {"stages.2.remove", "an earlier stage removed it"});
   expect_message(message({"stages.1.solver.damping=2.0"}), {"solver.damping", "in stage 2 \"dig\""});
+  expect_message(message({"stages.0.solver.damping=2.0"}), {"solver.damping", "in stage 1 \"rest\""});
+  EXPECT_EQ(message({"solver.damping=2.0"}).find("in stage"), std::string::npos) << "the file's own value, not a stage's";
   expect_message(message({"stages.0.reset_displacements=true"}), {"stages.0.reset_displacements", "first stage"});
   expect_message(message({"stages.1.bodies.ground.min=[0.0, 0.0]"}), {"stages.1.bodies.ground.min", "prescribed_velocity"});
   expect_message(message({"time.end=1.0"}), {"time.end", "each [[stages]] its end"});

@@ -832,8 +832,17 @@ Config read_input(const std::string& text, const std::string& file, const std::v
     try {
       *during = read_document(io::merge_stages(io::parse_toml(text, file, overrides), k, file), file, true);
     } catch (const InputError& e) {
-      // Only a stage's change can make a later stage's input invalid: say which stage it is in.
-      if (k == 0) throw;
+      // Only a stage's change can make a later stage's input invalid: say which stage it is in. In
+      // the first stage, so when the file without its stages reads well.
+      if (k == 0) {
+        toml::table base = io::parse_toml(text, file, overrides);
+        base.erase("stages");
+        try {
+          read_document(base, file, true);
+        } catch (const InputError&) {
+          throw e;
+        }
+      }
       const auto* name = root.get_as<toml::array>("stages")->get(k)->as_table()->get_as<std::string>("name");
       throw InputError(fmt::format("{} (in stage {}{}, with the changes of the stages up to it)", e.what(), k + 1,
                                    name ? fmt::format(" \"{}\"", printable(name->get())) : std::string{}));

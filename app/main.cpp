@@ -268,12 +268,11 @@ int fos(const Config& c, const Options& o) {
                t.index, t.factor, t.failed ? "fails" : "stands", t.reason, t.steps, t.max_displacement,
                t.unbalanced_force_ratio, t.wall_seconds);
   };
-  if (!o.quiet) {
-    const Model<D> m = build_model<D>(c);
-    make_recorders<D>(c, m);
-    print_summary<D>(c, m, fo.output_directory);
-  }
-  const FosResult r = factor_of_safety<D>(c, fo);
+  Model<D> m = build_model<D>(c);
+  make_recorders<D>(c, m);  // input errors before the summary, as for `run`
+  check_stages<D>(m, c);
+  if (!o.quiet) print_summary<D>(c, m, fo.output_directory);
+  const FosResult r = factor_of_safety<D>(c, std::move(m), fo);
   fmt::print("bracket: stands at F = {:.6g}, fails at F = {:.6g} ({} trials); trials, stable.vtu and mechanism.vtu in {}\n",
              r.lower, r.upper, r.trials.size(), r.directory);
   fmt::print("factor of safety: {:.4g}\n", r.factor);

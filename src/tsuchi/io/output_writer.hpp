@@ -32,7 +32,7 @@ struct OutputHistory {
   std::uint32_t stages_crc = 0;
 };
 
-// A row of stages.csv: how a stage went.
+// A row of stages.csv: how a stage went (run/simulation.hpp's StageReport adds to it).
 struct StageRow {
   int stage = 0;  // 1-based
   std::string name, end;  // end: what ended it ("duration", "steps", "equilibrium", "max_steps", ...)

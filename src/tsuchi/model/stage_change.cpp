@@ -67,26 +67,20 @@ namespace {
 // material the stage changes: masses follow a new density; a new model's state starts at the
 // particle's stress (its start hook, material.hpp), as at the start of a run.
 template <int D>
-void restate(Particles<D>& p, int material, const Material& before, const Material& after,
-             const std::vector<std::int32_t>* only_bodies = nullptr) {
+void restate(Particles<D>& p, int material, const Material& before, const Material& after, int only_body = -1) {
+  const auto chosen = [&](std::size_t q) {
+    return p.material_p[q] == material && (only_body < 0 || p.body_p[q] == only_body);
+  };
   const double scale = after.density / before.density;
-  const bool new_model = after.model.index() != before.model.index();
-  for (std::size_t q = 0; q < p.size(); ++q) {
-    if (p.material_p[q] != material) continue;
-    if (only_bodies && std::find(only_bodies->begin(), only_bodies->end(), p.body_p[q]) == only_bodies->end()) continue;
-    p.m_p[q] *= scale;
-  }
-  if (!new_model) return;
+  for (std::size_t q = 0; q < p.size(); ++q)
+    if (chosen(q)) p.m_p[q] *= scale;
+  if (after.model.index() == before.model.index()) return;
   std::visit(
       [&](const auto& model) {
         using M = std::decay_t<decltype(model)>;
         const auto cols = state_columns<M>(p);
-        for (std::size_t q = 0; q < p.size(); ++q) {
-          if (p.material_p[q] != material) continue;
-          if (only_bodies && std::find(only_bodies->begin(), only_bodies->end(), p.body_p[q]) == only_bodies->end())
-            continue;
-          start_state(model, PrincipalFrame<D>(p.sigma_p[q]).values, StateRef{cols.data(), q});
-        }
+        for (std::size_t q = 0; q < p.size(); ++q)
+          if (chosen(q)) start_state(model, PrincipalFrame<D>(p.sigma_p[q]).values, StateRef{cols.data(), q});
       },
       after.model);
 }
@@ -115,10 +109,8 @@ void reconfigure(Model<D>& m, const Config& run, std::size_t k, double t0) {
     const auto ub = static_cast<std::size_t>(b);
     const int from = before.bodies[ub].material_index, to = c.bodies[ub].material_index;
     if (from == to) continue;
-    const std::vector<std::int32_t> only{b};
     for (Particles<D>* p : {&m.particles, &m.dormant}) {
-      Material after = m.materials[static_cast<std::size_t>(to)];
-      restate(*p, from, m.materials[static_cast<std::size_t>(from)], after, &only);
+      restate(*p, from, m.materials[static_cast<std::size_t>(from)], m.materials[static_cast<std::size_t>(to)], b);
       for (std::size_t q = 0; q < p->size(); ++q)
         if (p->body_p[q] == b && p->material_p[q] == from) p->material_p[q] = to;
     }
@@ -161,8 +153,7 @@ void reconfigure(Model<D>& m, const Config& run, std::size_t k, double t0) {
 template <int D>
 void restore_stage(Model<D>& m, const Config& run, std::size_t k, const std::vector<double>& starts) {
   for (std::size_t j = 1; j <= k; ++j) {
-    change_particles(m, run, j);
-    reconfigure(m, run, j, starts[j]);
+    begin_stage(m, run, j, starts[j]);
   }
 }
 
@@ -172,8 +163,7 @@ void check_stages(const Model<D>& m, const Config& run) {
   Model<D> copy = m;
   for (std::size_t k = 1; k < run.stages.size(); ++k) {
     try {
-      change_particles(copy, run, k);
-      reconfigure(copy, run, k, 0.0);
+      begin_stage(copy, run, k, 0.0);
     } catch (const InputError& e) {
       throw InputError(fmt::format("stage {} \"{}\": {}", k + 1, run.stages[k].name, e.what()));
     }

@@ -29,6 +29,14 @@ void change_particles(Model<D>& m, const Config& run, std::size_t k);
 template <int D>
 void reconfigure(Model<D>& m, const Config& run, std::size_t k, double t0);
 
+// Both, as at the start of stage k at time t0: the one way a stage begins, in a run, on a restart's
+// replay and in check_stages.
+template <int D>
+void begin_stage(Model<D>& m, const Config& run, std::size_t k, double t0) {
+  change_particles(m, run, k);
+  reconfigure(m, run, k, t0);
+}
+
 // For a restart in stage k: a model built for the first stage (build_model) brought to stage k,
 // with starts[j] the start time of stage j; the checkpoint then replaces its particles and loads.
 template <int D>

@@ -87,7 +87,7 @@ FosTrial run_trial(const Model<D>& base, const Config& during, const FosConfig& 
 }  // namespace
 
 template <int D>
-FosResult factor_of_safety(const Config& config, const FosOptions& options) {
+FosResult factor_of_safety(const Config& config, Model<D> model, const FosOptions& options) {
   if (!config.fos.given)
     throw InputError(fmt::format("{}: missing table [fos]: expected the factor of safety's settings, at least "
                                  "fos.max_steps (the steps a trial may take to reach equilibrium); docs/stages.md",
@@ -103,7 +103,6 @@ FosResult factor_of_safety(const Config& config, const FosOptions& options) {
                                  config.source, names));
   }
   // The analysis, to the end of its [fos] stage: the state the trials start from.
-  Model<D> model = build_model<D>(config);
   RunOptions ro;
   ro.output_directory = options.output_directory;
   ro.last_stage = f.after_stage;
@@ -224,7 +223,7 @@ FosResult factor_of_safety(const Config& config, const FosOptions& options) {
   return result;
 }
 
-template FosResult factor_of_safety<2>(const Config&, const FosOptions&);
-template FosResult factor_of_safety<3>(const Config&, const FosOptions&);
+template FosResult factor_of_safety<2>(const Config&, Model<2>, const FosOptions&);
+template FosResult factor_of_safety<3>(const Config&, Model<3>, const FosOptions&);
 
 }  // namespace tsuchi

@@ -14,6 +14,7 @@
 // fos.tolerance of its lower end. A round's trials run side by side on the threads there are; what
 // is tried never depends on the thread count, so the result is the same on any machine.
 #include "tsuchi/model/config.hpp"
+#include "tsuchi/model/model.hpp"
 
 #include <cstdint>
 #include <functional>
@@ -47,11 +48,12 @@ struct FosOptions {
   std::function<void(const std::string&)> on_note;  // the analysis' stages, as they end
 };
 
-// Throws InputError for an input without [fos] or without a material whose strength is reduced.
+// `model` is build_model(config), which the analysis runs on. Throws InputError for an input
+// without [fos] or without a material whose strength is reduced.
 template <int D>
-FosResult factor_of_safety(const Config& config, const FosOptions& options);
+FosResult factor_of_safety(const Config& config, Model<D> model, const FosOptions& options);
 
-extern template FosResult factor_of_safety<2>(const Config&, const FosOptions&);
-extern template FosResult factor_of_safety<3>(const Config&, const FosOptions&);
+extern template FosResult factor_of_safety<2>(const Config&, Model<2>, const FosOptions&);
+extern template FosResult factor_of_safety<3>(const Config&, Model<3>, const FosOptions&);
 
 }  // namespace tsuchi

@@ -7,6 +7,7 @@
 #include "tsuchi/io/output_writer.hpp"
 #include "tsuchi/model/stage_change.hpp"
 #include "tsuchi/run/recorder.hpp"
+#include "tsuchi/solver/global_quantities.hpp"
 #include "tsuchi/solver/time_step.hpp"
 
 #include <fmt/format.h>
@@ -270,6 +271,12 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   bool stage_done = false;
   double settles = -std::numeric_limits<double>::infinity();
   std::int64_t step_limit = 0;  // absolute step count at which the stage (or run) stops; 0: none
+  // What the step limit is, once reached: the stage's step count, or its (or the run's) maximum.
+  auto step_limit_end = [&]() -> std::string {
+    const bool by_steps = staged && config.stages[stage].end.steps > 0 &&
+                          solver->steps() >= stage_start_steps[stage] + config.stages[stage].end.steps;
+    return by_steps ? "steps" : "max_steps";
+  };
   std::optional<double> equilibrium_ratio, kinetic_ratio;
   double latest_kinetic_ratio = std::numeric_limits<double>::quiet_NaN();
   std::vector<StageReport> reports;
@@ -301,8 +308,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
       if (!resuming) {
         if (staged && stage > 0) {
           try {
-            change_particles(model, config, stage);
-            reconfigure(model, config, stage, t0);
+            begin_stage(model, config, stage, t0);
             for (auto& r : recorders) r.rebind(model);
           } catch (const InputError& e) {
             throw InputError(fmt::format("stage {} \"{}\" (t = {:.6g} s): {}", stage + 1, config.stages[stage].name, t0,
@@ -358,8 +364,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
           break;
         }
         if (step_limit > 0 && solver->steps() >= step_limit) {
-          const StageEnd* e = staged ? &config.stages[stage].end : nullptr;
-          stage_end = e && e->steps > 0 && solver->steps() >= stage_start_steps[stage] + e->steps ? "steps" : "max_steps";
+          stage_end = step_limit_end();
           break;
         }
         const double t = solver->time();
@@ -454,9 +459,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         if (staged) {
           const StageEnd& e = config.stages[stage].end;
           if (kinetic_ratio) {
-            double ke = 0.0;  // sum m v^2 / 2, in storage order (the same bits on any thread count)
-            for (std::size_t i = 0; i < model.particles.size(); ++i)
-              ke += 0.5 * model.particles.m_p[i] * model.particles.v_p[i].squaredNorm();
+            const double ke = kinetic_energy(model.particles);
             peak_kinetic = std::max(peak_kinetic, ke);
             latest_kinetic_ratio = peak_kinetic > 0.0 ? ke / peak_kinetic : 0.0;
           }
@@ -475,8 +478,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
           }
           // The step and duration ends at once, so that no checkpoint is saved at a stage's end
           // before that end has been taken (a restart would end the stage without a step).
-          if (stage_end.empty() && step_limit > 0 && solver->steps() >= step_limit)
-            stage_end = e.steps > 0 && solver->steps() >= stage_start_steps[stage] + e.steps ? "steps" : "max_steps";
+          if (stage_end.empty() && step_limit > 0 && solver->steps() >= step_limit) stage_end = step_limit_end();
           if (stage_end.empty() && now >= end * (1.0 - 1e-12)) stage_end = "duration";
           if (!stage_end.empty()) progress.fraction = 1.0;
         }
@@ -521,14 +523,9 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
           write_frame(solver->time());
           last_frame = solver->time();
         }
-        StageRow row;
-        row.stage = rep.stage, row.name = rep.name, row.end = rep.end;
-        row.start_time = rep.start_time, row.end_time = rep.end_time;
-        row.start_step = rep.start_step, row.end_step = rep.end_step;
-        row.unbalanced_force_ratio = rep.unbalanced_force_ratio, row.kinetic_energy_ratio = rep.kinetic_energy_ratio;
-        row.first_frame = stage_first_frame;
-        row.last_frame = static_cast<std::int64_t>(out->frames_written()) - 1;
-        out->stage_row(row);
+        rep.first_frame = stage_first_frame;
+        rep.last_frame = static_cast<std::int64_t>(out->frames_written()) - 1;
+        out->stage_row(rep);
       }
       reports.push_back(rep);
       if (options.on_stage_end) options.on_stage_end(rep);

@@ -1,6 +1,7 @@
 #pragma once
 // The time loop of a run: picks each step's dt, steps, and hands results to the output writer on
 // schedule. Output times and the end time are hit exactly (the step before is shortened).
+#include "tsuchi/io/output_writer.hpp"
 #include "tsuchi/model/config.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/solver/explicit_step.hpp"
@@ -27,15 +28,11 @@ struct Progress {
   std::string stage_name;
 };
 
-// How a stage of a staged run ended (a row of stages.csv).
-struct StageReport {
-  int stage = 1, stages = 1;
-  std::string name;
-  std::string end;  // "duration", "steps", "equilibrium", "recorder NAME" or "max_steps"
-  double start_time = 0.0, end_time = 0.0;
-  std::int64_t start_step = 0, end_step = 0;
-  double unbalanced_force_ratio = 0.0, kinetic_energy_ratio = 0.0;
-  bool equilibrium_asked = false;  // the stage was to end in equilibrium
+// How a stage of a staged run ended: its row of stages.csv (io/output_writer.hpp), and for messages
+// the number of stages and whether it was to end in equilibrium.
+struct StageReport : StageRow {
+  int stages = 1;
+  bool equilibrium_asked = false;
 };
 
 struct RunOptions {

@@ -277,7 +277,6 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
                           solver->steps() >= stage_start_steps[stage] + config.stages[stage].end.steps;
     return by_steps ? "steps" : "max_steps";
   };
-  std::optional<double> equilibrium_ratio, kinetic_ratio;
   double latest_kinetic_ratio = std::numeric_limits<double>::quiet_NaN();
   std::vector<StageReport> reports;
 
@@ -337,7 +336,6 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         const std::int64_t from = stage_start_steps[stage];
         step_limit = e.steps > 0 ? from + e.steps : 0;
         if (e.max_steps > 0) step_limit = step_limit > 0 ? std::min(step_limit, from + e.max_steps) : from + e.max_steps;
-        equilibrium_ratio = e.unbalanced_force_ratio, kinetic_ratio = e.kinetic_energy_ratio;
         settles = stage_settles_at(model, config, stage);
         if (e.duration && e.max_steps == 0 && e.steps == 0) {
           Config c = sc;
@@ -458,7 +456,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         // The stage's own ends: equilibrium (once its functions of time have settled) and a recorder.
         if (staged) {
           const StageEnd& e = config.stages[stage].end;
-          if (kinetic_ratio) {
+          if (e.kinetic_energy_ratio) {
             const double ke = kinetic_energy(model.particles);
             peak_kinetic = std::max(peak_kinetic, ke);
             latest_kinetic_ratio = peak_kinetic > 0.0 ? ke / peak_kinetic : 0.0;
@@ -467,8 +465,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
           // see the stresses of the state before its changes.
           const bool judged = solver->steps() - stage_start_steps[stage] >= equilibrium_first_step;
           if (e.equilibrium() && now >= settles && judged) {
-            const bool force_ok = !equilibrium_ratio || solver->unbalanced_force_ratio() < *equilibrium_ratio;
-            const bool energy_ok = !kinetic_ratio || latest_kinetic_ratio < *kinetic_ratio;
+            const bool force_ok = !e.unbalanced_force_ratio || solver->unbalanced_force_ratio() < *e.unbalanced_force_ratio;
+            const bool energy_ok = !e.kinetic_energy_ratio || latest_kinetic_ratio < *e.kinetic_energy_ratio;
             if (force_ok && energy_ok) stage_end = "equilibrium";
           }
           if (e.recorder >= 0 && stage_end.empty()) {

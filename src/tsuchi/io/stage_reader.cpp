@@ -32,7 +32,8 @@ void merge(toml::table& into, toml::table&& from) {
       merge(*dst, std::move(*v.as_table()));
       continue;
     }
-    v.visit([&](auto&& value) { into.insert_or_assign(k, std::move(value)); });  // the key keeps its place in the file
+    const toml::key& k_ = k;  // clang 14 cannot capture a structured binding
+    v.visit([&](auto&& value) { into.insert_or_assign(k_, std::move(value)); });  // the key keeps its place in the file
   }
 }
 
@@ -88,13 +89,19 @@ void merge_named(toml::table& root, toml::table& stage, Section& s, std::string_
     // A body's motion keys are replaced whole, so that `prescribed_velocity = {}` frees the body;
     // a material's keys are values anyway.
     if (allowed) {
-      for (auto&& [k, kv] : *change) kv.visit([&](auto&& value) { target->insert_or_assign(k, std::move(value)); });
+      for (auto&& [k, kv] : *change) {
+        const toml::key& k_ = k;
+        kv.visit([&](auto&& value) { target->insert_or_assign(k_, std::move(value)); });
+      }
     } else if (change->contains("model")) {
       // Another model: its own keys, not the old one's (a Mohr-Coulomb cohesion would be unknown
       // to an elastic model); the name stays.
       toml::table fresh;
       fresh.insert("name", n);
-      for (auto&& [k, kv] : *change) kv.visit([&](auto&& value) { fresh.insert_or_assign(k, std::move(value)); });
+      for (auto&& [k, kv] : *change) {
+        const toml::key& k_ = k;
+        kv.visit([&](auto&& value) { fresh.insert_or_assign(k_, std::move(value)); });
+      }
       *target = std::move(fresh);
     } else {
       merge(*target, std::move(*change));

@@ -77,7 +77,7 @@ void check_homogeneous_strain_rate() {
   const double dt = 1e-4;
   // d_eps = dt sym(L): xx 0.02, yy -0.03, zz 0 (2D) or 0.01 (3D), xy (tensor) (0.01 + 0.005) / 2.
   const double exact[6] = {0.02 * dt, -0.03 * dt, D == 3 ? 0.01 * dt : 0.0, 0.0075 * dt, 0.0, 0.0};
-  for (const std::string remedy : {"none", "cell", "node"})
+  for (const std::string remedy : {"none", "cell", "node", "bbar"})
     for (const std::string shape : {"gimp", "linear"})
       for (const std::string scheme : {"usf", "usl", "musl"}) {
         const Config c = read_config_string(text, "block.toml",

@@ -428,7 +428,7 @@ void read_solver(Section& s, Config& c) {
     s.fail("pic_fraction", fmt::format("expected 0 (or no pic_fraction) with velocity_transfer = \"apic\", got {}: "
                                        "APIC has no FLIP/PIC blend; use velocity_transfer = \"flip\" for a blend",
                                        v.pic_fraction));
-  v.anti_locking = static_cast<AntiLocking>(s.choice("anti_locking", {"none", "cell", "node"}, 2));
+  v.anti_locking = static_cast<AntiLocking>(s.choice("anti_locking", {"none", "cell", "node", "bbar"}, 2));
   v.hold_released_volume = s.boolean("hold_released_volume", true);
   v.damping = s.number("damping", "a coefficient in [0, 1)", [](double x) { return x >= 0 && x < 1; }, 0.0);
   v.mass_threshold = s.number("mass_threshold", "a fraction in (0, 1)", [](double x) { return x > 0 && x < 1; }, 1e-9);
@@ -739,7 +739,7 @@ Config read_document(const toml::table& root, const std::string& file, bool stag
     Section s(*mats[i], fmt::format("materials.{}", i), file);
     // A numerical choice, not a constitutive one, so read here and not by read_material (element
     // tests have no grid to average over).
-    const int anti_locking = s.choice("anti_locking", {"none", "cell", "node"}, -1);
+    const int anti_locking = s.choice("anti_locking", {"none", "cell", "node", "bbar"}, -1);
     c.material_anti_locking.push_back(anti_locking < 0 ? std::nullopt
                                                        : std::optional(static_cast<AntiLocking>(anti_locking)));
     c.materials.push_back(read_material(s, c.materials, &c.warnings));

@@ -33,6 +33,7 @@ const char* to_string(AntiLocking a) {
     case AntiLocking::None: return "none";
     case AntiLocking::Cell: return "cell";
     case AntiLocking::Node: return "node";
+    case AntiLocking::Bbar: return "bbar";
   }
   return "?";
 }

@@ -28,8 +28,12 @@ enum class VelocityTransfer { Flip, Apic };
 // How the volumetric strain increment of a particle is taken (solver/volumetric_strain.hpp): its
 // own (the GIMP/linear gradient at the particle, which locks in isochoric flow); that of the
 // centre of the background cell holding it (mean dilatation per cell); or the volume-weighted
-// average of the particles' increments through the nodes (F-bar by P2G/G2P averaging).
-enum class AntiLocking { None, Cell, Node };
+// average of the particles' increments through the nodes (F-bar by P2G/G2P averaging); or that
+// average with its transpose in the internal force as well (a symmetric B-bar pair).
+enum class AntiLocking { None, Cell, Node, Bbar };
+
+// Whether the remedy takes the nodal average of the volumetric strain (eq V3).
+constexpr bool node_averaged(AntiLocking a) { return a == AntiLocking::Node || a == AntiLocking::Bbar; }
 
 // A named function of time from the input's [[functions]]: loads refer to it by name and are
 // multiplied by it (core/time_function.hpp).

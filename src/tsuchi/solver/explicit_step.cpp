@@ -14,6 +14,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <limits>
 #include <type_traits>
 
@@ -191,7 +192,7 @@ template <int D, class Kernel>
                                                       Voigt<D>& d_eps) {
   if (remedy == AntiLocking::Cell) {
     replace_volumetric_strain<D>(d_eps, dt * cell_centre_divergence<D>(g, v_g, st.xi));
-  } else if (remedy == AntiLocking::Node) {
+  } else if (node_averaged(remedy)) {
     WeightedSum sum{0.0, 0.0};
     st.gather(
         WeightedSum{0.0, 0.0},
@@ -237,6 +238,8 @@ void ExplicitSolver<D>::p2g() {
   if constexpr (mass_momentum)
     if (m_.contact.between_bodies()) scatter_mass_gradient<Kernel>();
   const Vec<D> b = gravity_;
+  bool smooth_pressure = false;
+  if constexpr (force) smooth_pressure = average_pressure<Kernel>();
   // What a row of the stencil spreads along x (stencil.hpp): with c_d the columns of -V sigma,
   // node (a, r) gets m wx[a] T, mv wx[a] T and
   //   f = S mb + sum_d G_d c_d = wx[a] (T mb + sum_{d>0} dT_d c_d) + dwx[a] T c_0.
@@ -254,7 +257,29 @@ void ExplicitSolver<D>::p2g() {
     Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
     const double m = p.m_p[i];
-    const Mat3 s = to_matrix<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i]));
+    Mat3 s = to_matrix<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i]));
+    if constexpr (force)
+      if (smooth_pressure) {
+        const auto mat = static_cast<std::size_t>(p.material_p[i]);
+        const std::size_t field = static_cast<std::size_t>(field_of(i));
+        if (mat < smooth_pressure_of_material_.size() && smooth_pressure_of_material_[mat] && !rigid_field_[field]) {
+          const std::size_t o = field * g.size();
+          const double* const P_g = node_pressure_.data() + o;
+          const double* const W_g = node_pressure_weight_.data() + o;
+          WeightedSum sum{0.0, 0.0};
+          st.gather(
+              WeightedSum{0.0, 0.0},
+              [&](WeightedSum& row, std::int64_t k, double w, double) {
+                row.e += w * P_g[k];
+                row.S += w * W_g[k];
+              },
+              [&](const WeightedSum& row, double T, const std::array<double, D - 1>&) {
+                sum.e += T * row.e;
+                sum.S += T * row.S;
+              });
+          if (sum.S > 0.0) s.diagonal().array() += sum.e / sum.S - s.trace() / 3.0;  // eq (V5)
+        }
+      }
     // -V sigma, so that the force is S m b + (-V sigma) G with one product per node.
     const Mat<D> minus_V_stress = -p.V_p[i] * s.template topLeftCorner<D, D>();
     const Vec<D> mv = m * p.v_p[i];
@@ -621,7 +646,7 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
   for_each_gathering_particle<Then>(particle);
 }
 
-// solver.anti_locking = "node": the nodal volume-weighted average of the particles' volumetric
+// solver.anti_locking = "node" and "bbar": the nodal volume-weighted average of the particles' volumetric
 // strain increments,
 //   e_i = sum_p S_ip V_p tr(d_eps_p) / sum_p S_ip V_p,        tr(d_eps_p)_bar = sum_i S_ip e_i,   (V3)
 // over the particles of the materials that ask for it, which update_stress() then gives each such
@@ -652,7 +677,7 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
   const Sums zero{Vec<D>::Zero(), Vec<D>::Zero()};
   schedule_.scatter([&](std::size_t i) {
     const auto mat = static_cast<std::size_t>(p.material_p[i]);
-    if (mat >= by_material.size() || by_material[mat] != AntiLocking::Node) return;
+    if (mat >= by_material.size() || !node_averaged(by_material[mat])) return;
     if (rigid_field_[static_cast<std::size_t>(field_of(i))]) return;  // takes no remedy (update_stress)
     const std::size_t field = static_cast<std::size_t>(field_of(i));
     const Vec<D>* const v_g = (g.fields[field].*v_strain).data();
@@ -691,6 +716,69 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
   }
 }
 
+// solver.anti_locking = "bbar", the force's side of eq (V3): the pressure each such particle puts
+// into the internal force is the nodal average of the particles' pressures, gathered back,
+//   P_i = sum_p S_ip V_p p_p / sum_p S_ip V_p,        p_p_bar = sum_i S_ip P_i,                  (V5)
+// with p_p = tr(sigma_p - sigma0_p) / 3 (zz included in plane strain), and the force
+//   f_i = -sum_p V_p (sigma_p - sigma0_p + (p_p_bar - p_p) I) . G_ip.
+// This is the transpose of (V3): the virtual work of the averaged volumetric strain,
+// sum_p V_p p_p d(e_p_bar), is sum_i dv_i . sum_p V_p p_p_bar G_ip, so the force and the strain
+// increment form one symmetric pair, B_bar^T sigma and B_bar v, as in Hughes' (1980) B-bar
+// element. With (V3) alone the stiffness is B^T C B_bar: not symmetric, and a velocity mode whose
+// divergence averages to zero at the nodes is loaded by the particle's own pressure but does no
+// work against it, which lets perfectly plastic, nearly incompressible soil gain energy
+// (examples/footing: the 40-cell Tresca footing without a tension cut-off). Returns whether any
+// particle takes (V5); fills node_pressure_ with P_i and node_pressure_weight_ with 1 where
+// P_i is defined.
+template <int D>
+template <class Kernel>
+bool ExplicitSolver<D>::average_pressure() {
+  const auto& g = m_.grid;
+  const auto& p = m_.particles;
+  const auto& by_material = m_.step.anti_locking;
+  smooth_pressure_of_material_.assign(m_.materials.size(), 0);
+  bool any = false;
+  for (std::size_t mat = 0; mat < by_material.size() && mat < m_.materials.size(); ++mat)
+    if (by_material[mat] == AntiLocking::Bbar) smooth_pressure_of_material_[mat] = 1, any = true;
+  if (!any) return false;
+  const std::size_t size = g.size(), slots = size * static_cast<std::size_t>(last_field_ + 1);
+  node_pressure_.resize(slots);
+  node_pressure_weight_.resize(slots);
+  for (int f = first_field_; f <= last_field_; ++f) {
+    const std::size_t o = static_cast<std::size_t>(f) * size;
+    schedule_.for_active_nodes([&](std::int64_t k) {
+      node_pressure_[o + static_cast<std::size_t>(k)] = 0.0;
+      node_pressure_weight_[o + static_cast<std::size_t>(k)] = 0.0;
+    });
+  }
+  schedule_.scatter([&](std::size_t i) {
+    const auto mat = static_cast<std::size_t>(p.material_p[i]);
+    if (mat >= smooth_pressure_of_material_.size() || !smooth_pressure_of_material_[mat]) return;
+    const std::size_t field = static_cast<std::size_t>(field_of(i));
+    if (rigid_field_[field]) return;
+    double* const P_g = node_pressure_.data() + field * size;
+    double* const W_g = node_pressure_weight_.data() + field * size;
+    Stencil<D, Kernel> st;
+    st.compute(g, p.x_p[i], p.l_p[i]);
+    const double V = p.V_p[i], Vp = V * trace<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i])) / 3.0;
+    st.scatter([&](double T, const std::array<double, D - 1>&) { return T; },
+               [&](std::int64_t k, double w, double, double T) {
+                 P_g[k] += (w * T) * Vp;
+                 W_g[k] += (w * T) * V;
+               });
+  });
+  for (int f = first_field_; f <= last_field_; ++f) {
+    const std::size_t o = static_cast<std::size_t>(f) * size;
+    schedule_.for_active_nodes([&](std::int64_t k) {
+      double& P = node_pressure_[o + static_cast<std::size_t>(k)];
+      double& W = node_pressure_weight_[o + static_cast<std::size_t>(k)];
+      if (W > 0.0) P /= W, W = 1.0;
+      else P = 0.0, W = 0.0;
+    });
+  }
+  return true;
+}
+
 // Strain and spin increments from the grid velocity, eq (10); Jaumann rotation (22) and the
 // constitutive update (11); volume (12), GIMP domain (14); with AfterStress::Move also positions
 // (5)-(6).
@@ -715,7 +803,7 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
   const bool hold_released = m_.step.hold_released_volume;
   std::int64_t released = 0;
   const auto& by_material = m_.step.anti_locking;
-  if (std::find(by_material.begin(), by_material.end(), AntiLocking::Node) != by_material.end())
+  if (std::any_of(by_material.begin(), by_material.end(), node_averaged))
     average_volumetric_strain<Kernel>(dt, v_strain);
   // One parallel region for every material group; a thread goes on to the next group without
   // waiting, as the groups hold different particles.
@@ -768,7 +856,7 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
             // A rigid body's strain is its prescribed motion's: no remedy (its field's velocities
             // carry the contact impulses, which the nodal average would turn into volume change).
             const AntiLocking own = rigid_field_[field] ? AntiLocking::None : remedy;
-            const bool node_average = own == AntiLocking::Node;
+            const bool node_average = node_averaged(own);
             apply_anti_locking<D>(own, g, st, v_g, node_average ? node_volume_strain_.data() + field * size : nullptr,
                                   node_average ? node_volume_.data() + field * size : nullptr, dt, d_eps);
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());

@@ -131,6 +131,7 @@ class ExplicitSolver {
   using FieldArray = std::vector<Vec<D>> NodalField<D>::*;  // &NodalField::v or &NodalField::vL
   template <class Kernel, AfterStress Then> void update_stress(double dt, FieldArray v_strain);
   template <class Kernel> void average_volumetric_strain(double dt, FieldArray v_strain);
+  template <class Kernel> bool average_pressure();
   // Inlined: both run for every particle in the innermost stages.
   [[gnu::always_inline]] inline void impose_motion(std::size_t i, Vec<D>& v) const;
   [[gnu::always_inline]] inline void impose_motion(std::size_t i, Vec<D>& v, Mat<D>& C) const;
@@ -162,6 +163,9 @@ class ExplicitSolver {
   mutable std::vector<std::array<double, 3>> tile_sums_;  // per active tile: max, sum, count
   // anti_locking = "node": sums of eq (V3), per body field (field f's at offset f * grid size)
   std::vector<double> node_volume_strain_, node_volume_;
+  // anti_locking = "bbar": the nodal average of the particles' pressures, eq (V5), per body field
+  std::vector<double> node_pressure_, node_pressure_weight_;
+  std::vector<std::uint8_t> smooth_pressure_of_material_;  // per material: its force takes (V5)
   // Per node: bit d set where a held body drives component d; with contact, per body field at
   // offset f * grid size as well (field 0's slot: any body's mark, for the unbalanced-force ratio).
   mutable std::vector<std::uint8_t> driven_;

@@ -14,7 +14,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <limits>
 #include <type_traits>
 
@@ -646,8 +645,8 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
   for_each_gathering_particle<Then>(particle);
 }
 
-// solver.anti_locking = "node" and "bbar": the nodal volume-weighted average of the particles' volumetric
-// strain increments,
+// solver.anti_locking = "node" and "bbar": the nodal volume-weighted average of the particles'
+// volumetric strain increments,
 //   e_i = sum_p S_ip V_p tr(d_eps_p) / sum_p S_ip V_p,        tr(d_eps_p)_bar = sum_i S_ip e_i,   (V3)
 // over the particles of the materials that ask for it, which update_stress() then gives each such
 // particle in place of its own (eq V1 of solver/volumetric_strain.hpp). This is the volume

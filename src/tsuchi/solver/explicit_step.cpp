@@ -175,36 +175,15 @@ namespace {
 
 // Zeroes nodal arrays on the active tiles, in one parallel loop: a serial fill of the whole grid
 // would be the largest serial part of the step.
-// A weighted sum and its weight (the node-averaged volumetric strain's gather). At namespace
-// scope: clang 14 cannot instantiate a local struct of a generic lambda in a template.
-struct WeightedSum {
-  double e, S;
-};
-
 // The particle's strain increment with the volumetric part its material's remedy takes
-// (solver.anti_locking): the cell centre's, eq (V2), or the nodal average's, eq (V3), gathered
-// from e_g (e_i) and V_g (1 where e_i is defined) and normalised by the weight on such nodes:
-// beyond the grid's edge a GIMP stencil loses weight, and sum S_ip < 1 would scale it down.
+// (solver.anti_locking): the cell centre's, eq (V2), or the nodal average's, eq (V3), from the
+// average of the particle's body field.
 template <int D, class Kernel>
 [[gnu::always_inline]] inline void apply_anti_locking(AntiLocking remedy, const Grid<D>& g, const Stencil<D, Kernel>& st,
-                                                      const Vec<D>* v_g, const double* e_g, const double* V_g, double dt,
-                                                      Voigt<D>& d_eps) {
-  if (remedy == AntiLocking::Cell) {
-    replace_volumetric_strain<D>(d_eps, dt * cell_centre_divergence<D>(g, v_g, st.xi));
-  } else if (node_averaged(remedy)) {
-    WeightedSum sum{0.0, 0.0};
-    st.gather(
-        WeightedSum{0.0, 0.0},
-        [&](WeightedSum& row, std::int64_t k, double w, double) {
-          row.e += w * e_g[k];
-          row.S += w * V_g[k];
-        },
-        [&](const WeightedSum& row, double T, const std::array<double, D - 1>&) {
-          sum.e += T * row.e;
-          sum.S += T * row.S;
-        });
-    replace_volumetric_strain<D>(d_eps, sum.e / sum.S);
-  }
+                                                      const Vec<D>* v_g, const NodalAverage<D>& average, int field,
+                                                      double dt, Voigt<D>& d_eps) {
+  if (remedy == AntiLocking::Cell) replace_volumetric_strain<D>(d_eps, dt * cell_centre_divergence<D>(g, v_g, st.xi));
+  else if (node_averaged(remedy)) replace_volumetric_strain<D>(d_eps, average.gather(st, field));
 }
 
 template <int D, class... Arrays>
@@ -261,23 +240,8 @@ void ExplicitSolver<D>::p2g() {
       if (smooth_pressure) {
         const auto mat = static_cast<std::size_t>(p.material_p[i]);
         const std::size_t field = static_cast<std::size_t>(field_of(i));
-        if (mat < smooth_pressure_of_material_.size() && smooth_pressure_of_material_[mat] && !rigid_field_[field]) {
-          const std::size_t o = field * g.size();
-          const double* const P_g = node_pressure_.data() + o;
-          const double* const W_g = node_pressure_weight_.data() + o;
-          WeightedSum sum{0.0, 0.0};
-          st.gather(
-              WeightedSum{0.0, 0.0},
-              [&](WeightedSum& row, std::int64_t k, double w, double) {
-                row.e += w * P_g[k];
-                row.S += w * W_g[k];
-              },
-              [&](const WeightedSum& row, double T, const std::array<double, D - 1>&) {
-                sum.e += T * row.e;
-                sum.S += T * row.S;
-              });
-          if (sum.S > 0.0) s.diagonal().array() += sum.e / sum.S - s.trace() / 3.0;  // eq (V5)
-        }
+        if (mat < smooth_pressure_of_material_.size() && smooth_pressure_of_material_[mat] && !rigid_field_[field])
+          s.diagonal().array() += pressure_average_.gather(st, static_cast<int>(field)) - s.trace() / 3.0;  // eq (V5)
       }
     // -V sigma, so that the force is S m b + (-V sigma) G with one product per node.
     const Mat<D> minus_V_stress = -p.V_p[i] * s.template topLeftCorner<D, D>();
@@ -660,16 +624,7 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
   const auto& p = m_.particles;
   const auto& by_material = m_.step.anti_locking;
   // One average per body field: bodies in contact do not share their volume change.
-  const std::size_t size = g.size(), slots = size * static_cast<std::size_t>(last_field_ + 1);
-  node_volume_strain_.resize(slots);
-  node_volume_.resize(slots);
-  for (int f = first_field_; f <= last_field_; ++f) {
-    const std::size_t o = static_cast<std::size_t>(f) * size;
-    schedule_.for_active_nodes([&](std::int64_t k) {
-      node_volume_strain_[o + static_cast<std::size_t>(k)] = 0.0;
-      node_volume_[o + static_cast<std::size_t>(k)] = 0.0;
-    });
-  }
+  volume_strain_average_.begin(schedule_, g.size(), first_field_, last_field_);
   struct Sums {
     Vec<D> w, dw;
   };
@@ -680,8 +635,6 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
     if (rigid_field_[static_cast<std::size_t>(field_of(i))]) return;  // takes no remedy (update_stress)
     const std::size_t field = static_cast<std::size_t>(field_of(i));
     const Vec<D>* const v_g = (g.fields[field].*v_strain).data();
-    double* const e_g = node_volume_strain_.data() + field * size;
-    double* const V_g = node_volume_.data() + field * size;
     Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
     double div = 0.0;  // tr L = sum_i G_i . v_i
@@ -695,24 +648,10 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
           div += T * row.dw[0];
           for (int d = 1; d < D; ++d) div += dT[d - 1] * row.w[d];
         });
-    const double V = p.V_p[i], Ve = V * dt * div;
-    st.scatter([&](double T, const std::array<double, D - 1>&) { return T; },
-               [&](std::int64_t k, double w, double, double T) {
-                 e_g[k] += (w * T) * Ve;
-                 V_g[k] += (w * T) * V;
-               });
+    const double V = p.V_p[i];
+    volume_strain_average_.add(st, static_cast<int>(field), V, V * dt * div);
   });
-  // e_i once per node, and node_volume_ becomes 1 where e_i is defined (0 elsewhere): the gather
-  // in update_stress then needs no division or test per node.
-  for (int f = first_field_; f <= last_field_; ++f) {
-    const std::size_t o = static_cast<std::size_t>(f) * size;
-    schedule_.for_active_nodes([&](std::int64_t k) {
-      double& e = node_volume_strain_[o + static_cast<std::size_t>(k)];
-      double& V = node_volume_[o + static_cast<std::size_t>(k)];
-      if (V > 0.0) e /= V, V = 1.0;
-      else e = 0.0, V = 0.0;
-    });
-  }
+  volume_strain_average_.finish(schedule_);
 }
 
 // solver.anti_locking = "bbar", the force's side of eq (V3): the pressure each such particle puts
@@ -727,8 +666,7 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
 // divergence averages to zero at the nodes is loaded by the particle's own pressure but does no
 // work against it, which lets perfectly plastic, nearly incompressible soil gain energy
 // (examples/footing: the 40-cell Tresca footing without a tension cut-off). Returns whether any
-// particle takes (V5); fills node_pressure_ with P_i and node_pressure_weight_ with 1 where
-// P_i is defined.
+// particle takes (V5), and then pressure_average_ holds P_i.
 template <int D>
 template <class Kernel>
 bool ExplicitSolver<D>::average_pressure() {
@@ -740,41 +678,18 @@ bool ExplicitSolver<D>::average_pressure() {
   for (std::size_t mat = 0; mat < by_material.size() && mat < m_.materials.size(); ++mat)
     if (by_material[mat] == AntiLocking::Bbar) smooth_pressure_of_material_[mat] = 1, any = true;
   if (!any) return false;
-  const std::size_t size = g.size(), slots = size * static_cast<std::size_t>(last_field_ + 1);
-  node_pressure_.resize(slots);
-  node_pressure_weight_.resize(slots);
-  for (int f = first_field_; f <= last_field_; ++f) {
-    const std::size_t o = static_cast<std::size_t>(f) * size;
-    schedule_.for_active_nodes([&](std::int64_t k) {
-      node_pressure_[o + static_cast<std::size_t>(k)] = 0.0;
-      node_pressure_weight_[o + static_cast<std::size_t>(k)] = 0.0;
-    });
-  }
+  pressure_average_.begin(schedule_, g.size(), first_field_, last_field_);
   schedule_.scatter([&](std::size_t i) {
     const auto mat = static_cast<std::size_t>(p.material_p[i]);
     if (mat >= smooth_pressure_of_material_.size() || !smooth_pressure_of_material_[mat]) return;
-    const std::size_t field = static_cast<std::size_t>(field_of(i));
-    if (rigid_field_[field]) return;
-    double* const P_g = node_pressure_.data() + field * size;
-    double* const W_g = node_pressure_weight_.data() + field * size;
+    const int field = field_of(i);
+    if (rigid_field_[static_cast<std::size_t>(field)]) return;
     Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
-    const double V = p.V_p[i], Vp = V * trace<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i])) / 3.0;
-    st.scatter([&](double T, const std::array<double, D - 1>&) { return T; },
-               [&](std::int64_t k, double w, double, double T) {
-                 P_g[k] += (w * T) * Vp;
-                 W_g[k] += (w * T) * V;
-               });
+    const double V = p.V_p[i];
+    pressure_average_.add(st, field, V, V * trace<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i])) / 3.0);
   });
-  for (int f = first_field_; f <= last_field_; ++f) {
-    const std::size_t o = static_cast<std::size_t>(f) * size;
-    schedule_.for_active_nodes([&](std::int64_t k) {
-      double& P = node_pressure_[o + static_cast<std::size_t>(k)];
-      double& W = node_pressure_weight_[o + static_cast<std::size_t>(k)];
-      if (W > 0.0) P /= W, W = 1.0;
-      else P = 0.0, W = 0.0;
-    });
-  }
+  pressure_average_.finish(schedule_);
   return true;
 }
 
@@ -788,7 +703,6 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
   constexpr bool move = Then == AfterStress::Move;
   auto& g = m_.grid;
   auto& p = m_.particles;
-  const std::size_t size = g.size();
   const bool domain_update = m_.step.domain_update();
   const bool defer_domain = !move;  // USF: the step's later stages still need this step's weights
   if (domain_update && defer_domain) deferred_eps_.resize(p.size());
@@ -855,9 +769,7 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
             // A rigid body's strain is its prescribed motion's: no remedy (its field's velocities
             // carry the contact impulses, which the nodal average would turn into volume change).
             const AntiLocking own = rigid_field_[field] ? AntiLocking::None : remedy;
-            const bool node_average = node_averaged(own);
-            apply_anti_locking<D>(own, g, st, v_g, node_average ? node_volume_strain_.data() + field * size : nullptr,
-                                  node_average ? node_volume_.data() + field * size : nullptr, dt, d_eps);
+            apply_anti_locking<D>(own, g, st, v_g, volume_strain_average_, static_cast<int>(field), dt, d_eps);
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
             jaumann_rotate(p.sigma_p[i], d_omega);
             if (rotate_sigma0) jaumann_rotate(p.sigma0_p[i], d_omega);

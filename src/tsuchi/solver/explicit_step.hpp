@@ -23,6 +23,7 @@
 #include "tsuchi/solver/contact_stage.hpp"
 #include "tsuchi/solver/held_nodes.hpp"
 #include "tsuchi/solver/load_stage.hpp"
+#include "tsuchi/solver/nodal_average.hpp"
 
 #include <algorithm>
 #include <array>
@@ -161,10 +162,8 @@ class ExplicitSolver {
   mutable double ratio_ = 0.0;               // unbalanced_force_ratio() of step ratio_step_
   mutable std::int64_t ratio_step_ = -1;
   mutable std::vector<std::array<double, 3>> tile_sums_;  // per active tile: max, sum, count
-  // anti_locking = "node": sums of eq (V3), per body field (field f's at offset f * grid size)
-  std::vector<double> node_volume_strain_, node_volume_;
-  // anti_locking = "bbar": the nodal average of the particles' pressures, eq (V5), per body field
-  std::vector<double> node_pressure_, node_pressure_weight_;
+  NodalAverage<D> volume_strain_average_;  // anti_locking = "node" and "bbar": eq (V3)
+  NodalAverage<D> pressure_average_;       // anti_locking = "bbar": the pressures of eq (V5)
   std::vector<std::uint8_t> smooth_pressure_of_material_;  // per material: its force takes (V5)
   // Per node: bit d set where a held body drives component d; with contact, per body field at
   // offset f * grid size as well (field 0's slot: any body's mark, for the unbalanced-force ratio).

@@ -173,8 +173,6 @@ void ExplicitSolver<D>::begin_loads(double dt) {
 
 namespace {
 
-// Zeroes nodal arrays on the active tiles, in one parallel loop: a serial fill of the whole grid
-// would be the largest serial part of the step.
 // The particle's strain increment with the volumetric part its material's remedy takes
 // (solver.anti_locking): the cell centre's, eq (V2), or the nodal average's, eq (V3), from the
 // average of the particle's body field.
@@ -186,6 +184,8 @@ template <int D, class Kernel>
   else if (node_averaged(remedy)) replace_volumetric_strain<D>(d_eps, average.gather(st, field));
 }
 
+// Zeroes nodal arrays on the active tiles, in one parallel loop: a serial fill of the whole grid
+// would be the largest serial part of the step.
 template <int D, class... Arrays>
 void zero_nodal(const BlockSchedule<D>& schedule, Arrays&... a) {
   schedule.for_active_nodes([&](std::int64_t k) { ((a[k] = zero_of<typename Arrays::value_type>()), ...); });
@@ -238,10 +238,8 @@ void ExplicitSolver<D>::p2g() {
     Mat3 s = to_matrix<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i]));
     if constexpr (force)
       if (smooth_pressure) {
-        const auto mat = static_cast<std::size_t>(p.material_p[i]);
-        const std::size_t field = static_cast<std::size_t>(field_of(i));
-        if (mat < smooth_pressure_of_material_.size() && smooth_pressure_of_material_[mat] && !rigid_field_[field])
-          s.diagonal().array() += pressure_average_.gather(st, static_cast<int>(field)) - s.trace() / 3.0;  // eq (V5)
+        if (takes_averaged_pressure(i))
+          s.diagonal().array() += pressure_average_.gather(st, field_of(i)) - s.trace() / 3.0;  // eq (V5)
       }
     // -V sigma, so that the force is S m b + (-V sigma) G with one product per node.
     const Mat<D> minus_V_stress = -p.V_p[i] * s.template topLeftCorner<D, D>();
@@ -673,17 +671,11 @@ bool ExplicitSolver<D>::average_pressure() {
   const auto& g = m_.grid;
   const auto& p = m_.particles;
   const auto& by_material = m_.step.anti_locking;
-  smooth_pressure_of_material_.assign(m_.materials.size(), 0);
-  bool any = false;
-  for (std::size_t mat = 0; mat < by_material.size() && mat < m_.materials.size(); ++mat)
-    if (by_material[mat] == AntiLocking::Bbar) smooth_pressure_of_material_[mat] = 1, any = true;
-  if (!any) return false;
+  if (std::find(by_material.begin(), by_material.end(), AntiLocking::Bbar) == by_material.end()) return false;
   pressure_average_.begin(schedule_, g.size(), first_field_, last_field_);
   schedule_.scatter([&](std::size_t i) {
-    const auto mat = static_cast<std::size_t>(p.material_p[i]);
-    if (mat >= smooth_pressure_of_material_.size() || !smooth_pressure_of_material_[mat]) return;
+    if (!takes_averaged_pressure(i)) return;
     const int field = field_of(i);
-    if (rigid_field_[static_cast<std::size_t>(field)]) return;
     Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
     const double V = p.V_p[i];

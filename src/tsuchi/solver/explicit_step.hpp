@@ -133,6 +133,14 @@ class ExplicitSolver {
   template <class Kernel, AfterStress Then> void update_stress(double dt, FieldArray v_strain);
   template <class Kernel> void average_volumetric_strain(double dt, FieldArray v_strain);
   template <class Kernel> bool average_pressure();
+  // Whether particle i's force takes the averaged pressure (eq V5): its material asks for "bbar"
+  // and it is not in a rigid body's field (which takes no remedy, as in update_stress).
+  bool takes_averaged_pressure(std::size_t i) const {
+    const auto mat = static_cast<std::size_t>(m_.particles.material_p[i]);
+    const auto& by_material = m_.step.anti_locking;
+    return mat < by_material.size() && by_material[mat] == AntiLocking::Bbar &&
+           !rigid_field_[static_cast<std::size_t>(field_of(i))];
+  }
   // Inlined: both run for every particle in the innermost stages.
   [[gnu::always_inline]] inline void impose_motion(std::size_t i, Vec<D>& v) const;
   [[gnu::always_inline]] inline void impose_motion(std::size_t i, Vec<D>& v, Mat<D>& C) const;
@@ -164,7 +172,6 @@ class ExplicitSolver {
   mutable std::vector<std::array<double, 3>> tile_sums_;  // per active tile: max, sum, count
   NodalAverage<D> volume_strain_average_;  // anti_locking = "node" and "bbar": eq (V3)
   NodalAverage<D> pressure_average_;       // anti_locking = "bbar": the pressures of eq (V5)
-  std::vector<std::uint8_t> smooth_pressure_of_material_;  // per material: its force takes (V5)
   // Per node: bit d set where a held body drives component d; with contact, per body field at
   // offset f * grid size as well (field 0's slot: any body's mark, for the unbalanced-force ratio).
   mutable std::vector<std::uint8_t> driven_;

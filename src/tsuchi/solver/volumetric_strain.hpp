@@ -13,11 +13,12 @@
 // particle's deformation gradient takes the cell centre's volume change; (V1) is its small-
 // increment (rate) form, which is what the Jaumann-rate update integrates. Coombs, Charlton,
 // Cortis and Augarde ("Overcoming volumetric locking in material point methods", CMAME 2018)
-// bring F-bar to MPM with the same idea of an assumed volumetric strain per background cell. With the cell's value only the
-// stress update and the volume see (V1); the internal force keeps the particle's own weights (not
-// a B-bar operator in the force as well). With "bbar" the nodal average (V3) has its transpose in
-// the force too (eq V5, ExplicitSolver::average_pressure): with "node" alone the pair is not
-// symmetric, and perfectly plastic, nearly incompressible soil can gain energy.
+// bring F-bar to MPM with the same idea of an assumed volumetric strain per background cell.
+// With the cell's value only the stress update and the volume see (V1); the internal force keeps
+// the particle's own weights (not a B-bar operator in the force as well). With "bbar" the nodal
+// average (V3) has its transpose in the force too (eq V5, ExplicitSolver::average_pressure): with
+// "node" alone the pair is not symmetric, and perfectly plastic, nearly incompressible soil can
+// gain energy.
 //
 // In plane strain (D = 2) the shift goes to zz as well, as in Hughes' (1980) B-bar for plane
 // strain: the deviatoric part of the particle's own increment (zz included) is kept, so a 2D model

@@ -179,9 +179,9 @@ namespace {
 template <int D, class Kernel>
 [[gnu::always_inline]] inline void apply_anti_locking(AntiLocking remedy, const Grid<D>& g, const Stencil<D, Kernel>& st,
                                                       const Vec<D>* v_g, const NodalAverage<D>& average, int field,
-                                                      double dt, Voigt<D>& d_eps) {
+                                                      int material, double dt, Voigt<D>& d_eps) {
   if (remedy == AntiLocking::Cell) replace_volumetric_strain<D>(d_eps, dt * cell_centre_divergence<D>(g, v_g, st.xi));
-  else if (node_averaged(remedy)) replace_volumetric_strain<D>(d_eps, average.gather(st, field));
+  else if (node_averaged(remedy)) replace_volumetric_strain<D>(d_eps, average.gather(st, field, material));
 }
 
 // Zeroes nodal arrays on the active tiles, in one parallel loop: a serial fill of the whole grid
@@ -239,7 +239,7 @@ void ExplicitSolver<D>::p2g() {
     if constexpr (force)
       if (smooth_pressure) {
         if (takes_averaged_pressure(i))
-          s.diagonal().array() += pressure_average_.gather(st, field_of(i)) - s.trace() / 3.0;  // eq (V5)
+          s.diagonal().array() += pressure_average_.gather(st, field_of(i), p.material_p[i]) - s.trace() / 3.0;  // eq (V5)
       }
     // -V sigma, so that the force is S m b + (-V sigma) G with one product per node.
     const Mat<D> minus_V_stress = -p.V_p[i] * s.template topLeftCorner<D, D>();
@@ -610,8 +610,8 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
 // solver.anti_locking = "node" and "bbar": the nodal volume-weighted average of the particles'
 // volumetric strain increments,
 //   e_i = sum_p S_ip V_p tr(d_eps_p) / sum_p S_ip V_p,        tr(d_eps_p)_bar = sum_i S_ip e_i,   (V3)
-// over the particles of the materials that ask for it, which update_stress() then gives each such
-// particle in place of its own (eq V1 of solver/volumetric_strain.hpp). This is the volume
+// over the particles of each material that asks for it (each over its own), which update_stress()
+// then gives each such particle in place of its own (eq V1 of solver/volumetric_strain.hpp). This is the volume
 // averaging by the particle-grid transfers of Zhao, Jiang and Choo (2023, "Circumventing
 // volumetric locking in explicit material point methods", CMAME), in rate form: a smooth field,
 // so no cell-by-cell pressure pattern, for any kernel. One more scatter over the particles.
@@ -621,8 +621,12 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
   const auto& g = m_.grid;
   const auto& p = m_.particles;
   const auto& by_material = m_.step.anti_locking;
-  // One average per body field: bodies in contact do not share their volume change.
-  volume_strain_average_.begin(schedule_, g.size(), first_field_, last_field_);
+  // One average per body field and material: bodies in contact do not share their volume change,
+  // nor do two materials bonded in one field (solver/nodal_average.hpp).
+  std::vector<std::uint8_t> averaged(m_.materials.size());
+  for (std::size_t mat = 0; mat < averaged.size(); ++mat)
+    averaged[mat] = mat < by_material.size() && node_averaged(by_material[mat]);
+  volume_strain_average_.begin(schedule_, g.size(), first_field_, last_field_, averaged);
   struct Sums {
     Vec<D> w, dw;
   };
@@ -647,7 +651,7 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
           for (int d = 1; d < D; ++d) div += dT[d - 1] * row.w[d];
         });
     const double V = p.V_p[i];
-    volume_strain_average_.add(st, static_cast<int>(field), V, V * dt * div);
+    volume_strain_average_.add(st, static_cast<int>(field), static_cast<int>(mat), V, V * dt * div);
   });
   volume_strain_average_.finish(schedule_);
 }
@@ -672,14 +676,17 @@ bool ExplicitSolver<D>::average_pressure() {
   const auto& p = m_.particles;
   const auto& by_material = m_.step.anti_locking;
   if (std::find(by_material.begin(), by_material.end(), AntiLocking::Bbar) == by_material.end()) return false;
-  pressure_average_.begin(schedule_, g.size(), first_field_, last_field_);
+  std::vector<std::uint8_t> averaged(m_.materials.size());
+  for (std::size_t mat = 0; mat < averaged.size(); ++mat)
+    averaged[mat] = mat < by_material.size() && by_material[mat] == AntiLocking::Bbar;
+  pressure_average_.begin(schedule_, g.size(), first_field_, last_field_, averaged);
   schedule_.scatter([&](std::size_t i) {
     if (!takes_averaged_pressure(i)) return;
     const int field = field_of(i);
     Stencil<D, Kernel> st;
     st.compute(g, p.x_p[i], p.l_p[i]);
     const double V = p.V_p[i];
-    pressure_average_.add(st, field, V, V * trace<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i])) / 3.0);
+    pressure_average_.add(st, field, p.material_p[i], V, V * trace<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i])) / 3.0);
   });
   pressure_average_.finish(schedule_);
   return true;
@@ -761,7 +768,8 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
             // A rigid body's strain is its prescribed motion's: no remedy (its field's velocities
             // carry the contact impulses, which the nodal average would turn into volume change).
             const AntiLocking own = rigid_field_[field] ? AntiLocking::None : remedy;
-            apply_anti_locking<D>(own, g, st, v_g, volume_strain_average_, static_cast<int>(field), dt, d_eps);
+            apply_anti_locking<D>(own, g, st, v_g, volume_strain_average_, static_cast<int>(field),
+                                  static_cast<int>(mat), dt, d_eps);
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
             jaumann_rotate(p.sigma_p[i], d_omega);
             if (rotate_sigma0) jaumann_rotate(p.sigma0_p[i], d_omega);

@@ -1,7 +1,13 @@
 #pragma once
-// A volume-weighted average of a particle quantity q through the grid nodes, per body field:
+// A volume-weighted average of a particle quantity q through the grid nodes, per body field and
+// per material:
 //   Q_i = sum_p S_ip V_p q_p / sum_p S_ip V_p,          q_bar_p = sum_i S_ip Q_i / sum_i S_ip [i],
-// where [i] is 1 at the nodes where Q_i is defined. The second normalisation matters beyond the
+// the sums over the particles of p's field and material, where [i] is 1 at the nodes where Q_i is
+// defined. Per material because an average across an interface mixes materials of any stiffness:
+// a stiff body bonded to soil (a cap, a footing, a wall) would take the soil's volume change, and
+// with a modulus 1e5 times the soil's a 3D slab ran away within 13 steps; as in a B-bar element,
+// which never spans two materials, each material's volume change is averaged over itself. Only
+// the materials that take the average have sums. The second normalisation matters beyond the
 // grid's edge, where a GIMP stencil loses weight and sum S_ip < 1 would scale q_bar down. The
 // anti-locking remedies take it for the volumetric strain increment (eq V3) and, with "bbar", for
 // the pressure in the internal force (eq V5), both in solver/explicit_step.cpp.
@@ -24,10 +30,16 @@ struct NodalAverageSums {
 template <int D>
 class NodalAverage {
  public:
-  // Zeroes the sums of body fields first..last on the active nodes of a grid of `grid_size` nodes.
-  void begin(const BlockSchedule<D>& schedule, std::size_t grid_size, int first, int last) {
+  // Zeroes the sums of body fields first..last on the active nodes of a grid of `grid_size` nodes,
+  // for the materials m with averaged[m] set (the others take no part).
+  void begin(const BlockSchedule<D>& schedule, std::size_t grid_size, int first, int last,
+             const std::vector<std::uint8_t>& averaged) {
     size_ = grid_size;
-    const std::size_t slots = size_ * static_cast<std::size_t>(last + 1);
+    slot_.assign(averaged.size(), 0);
+    slots_ = 0;
+    for (std::size_t mat = 0; mat < averaged.size(); ++mat)
+      if (averaged[mat]) slot_[mat] = slots_++;
+    const std::size_t slots = size_ * static_cast<std::size_t>(last + 1) * slots_;
     sum_.resize(slots);
     weight_.resize(slots);
     first_ = first;
@@ -38,9 +50,9 @@ class NodalAverage {
   // Particle p's share, V_p q_p (Vq, formed by the caller) and V_p, spread by its stencil; called
   // inside a coloured scatter, so no two threads add to one node at once.
   template <class Kernel>
-  [[gnu::always_inline]] inline void add(const Stencil<D, Kernel>& st, int field, double V, double Vq) {
-    double* const s_g = sum_.data() + offset(field);
-    double* const w_g = weight_.data() + offset(field);
+  [[gnu::always_inline]] inline void add(const Stencil<D, Kernel>& st, int field, int material, double V, double Vq) {
+    double* const s_g = sum_.data() + offset(field, material);
+    double* const w_g = weight_.data() + offset(field, material);
     st.scatter([&](double T, const std::array<double, D - 1>&) { return T; },
                [&](std::int64_t k, double w, double, double T) {
                  s_g[k] += (w * T) * Vq;
@@ -57,11 +69,11 @@ class NodalAverage {
     });
   }
 
-  // q_bar_p of the particle with stencil st in body field `field`.
+  // q_bar_p of the particle with stencil st in body field `field`, of material `material`.
   template <class Kernel>
-  [[gnu::always_inline]] inline double gather(const Stencil<D, Kernel>& st, int field) const {
-    const double* const s_g = sum_.data() + offset(field);
-    const double* const w_g = weight_.data() + offset(field);
+  [[gnu::always_inline]] inline double gather(const Stencil<D, Kernel>& st, int field, int material) const {
+    const double* const s_g = sum_.data() + offset(field, material);
+    const double* const w_g = weight_.data() + offset(field, material);
     NodalAverageSums total{0.0, 0.0};
     st.gather(
         NodalAverageSums{0.0, 0.0},
@@ -77,18 +89,23 @@ class NodalAverage {
   }
 
  private:
-  std::size_t offset(int field) const { return static_cast<std::size_t>(field) * size_; }
+  // Only for a material that takes the average (averaged[material] set in begin).
+  std::size_t offset(int field, int material) const {
+    return (static_cast<std::size_t>(field) * slots_ + slot_[static_cast<std::size_t>(material)]) * size_;
+  }
   template <class F> void for_fields(const BlockSchedule<D>& schedule, F&& f) {
-    for (int field = first_; field <= last_; ++field) {
-      const std::size_t o = offset(field);
-      schedule.for_active_nodes([&](std::int64_t k) {
-        f(sum_[o + static_cast<std::size_t>(k)], weight_[o + static_cast<std::size_t>(k)]);
-      });
-    }
+    for (int field = first_; field <= last_; ++field)
+      for (std::size_t slot = 0; slot < slots_; ++slot) {
+        const std::size_t o = (static_cast<std::size_t>(field) * slots_ + slot) * size_;
+        schedule.for_active_nodes([&](std::int64_t k) {
+          f(sum_[o + static_cast<std::size_t>(k)], weight_[o + static_cast<std::size_t>(k)]);
+        });
+      }
   }
 
   std::vector<double> sum_, weight_;
-  std::size_t size_ = 0;
+  std::vector<std::size_t> slot_;  // material -> its sums' slot; meaningful where averaged
+  std::size_t size_ = 0, slots_ = 0;
   int first_ = 0, last_ = 0;
 };
 

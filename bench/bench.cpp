@@ -4,10 +4,16 @@
 //     loading to 2 % axial strain so that particles are yielding; and the same with the cap a rigid
 //     platen in frictional contact with the specimen ([[contact]], mu = 0.3: two velocity fields);
 //   - an elastic block under gravity on a fixed floor (GIMP, MUSL) at 1e4, 1e5 and 1e6 particles
-//     in 2D, and 1e6 in 3D: the cost per particle-step should not grow with the size.
-// Usage: tsuchi-bench [--quick | --triaxial]   (quick: small cases, a smoke run of a few seconds;
-// triaxial: only the triaxial case, for profiling)
+//     in 2D, and 1e6 in 3D: the cost per particle-step should not grow with the size;
+//   - whole runs: bench/cases/triaxial_2d.toml (5,500 particles) and slab_3d.toml (the same
+//     geometry as a 3D slab one cell thick, 6,000 particles), the cases the team times beside
+//     CB-Geo and MPM-Geomechanics, each read, built and run for its 2,000 steps as `tsuchi run`
+//     does with output off; the figure counts every second from reading the input to the end,
+//     and the share of it spent outside the steps (start-up) is reported beside it.
+// Usage: tsuchi-bench [--quick | --triaxial | --whole]   (quick: small cases, a smoke run of a few
+// seconds; triaxial: only the triaxial case, for profiling; whole: only the whole runs)
 #include "tsuchi/io/config_reader.hpp"
+#include "tsuchi/run/simulation.hpp"
 #include "tsuchi/solver/explicit_step.hpp"
 #include "tsuchi/solver/time_step.hpp"
 
@@ -141,11 +147,64 @@ void triaxial(int steps, const std::vector<int>& threads, bool contact = false) 
   }
 }
 
+// A whole run of `file` on `threads` threads, as `tsuchi run FILE -q --threads N` with output off:
+// wall time from reading the input to the end of the last step, in five rounds (median round
+// reported). Start-up is the time before the first step began: from reading the input to the end
+// of the first step, less the median of the run's step intervals.
+template <int D>
+void whole_run(const std::string& file, const std::string& name, int threads) {
+  using Clock = std::chrono::steady_clock;
+  omp_set_num_threads(threads);
+  struct Round {
+    double wall = 0.0, startup = 0.0;
+  };
+  std::vector<Round> rounds;
+  std::int64_t steps = 0;
+  std::size_t particles = 0;
+  for (int r = 0; r < 5; ++r) {
+    const auto t0 = Clock::now();
+    const Config c = read_config_file(file);
+    Model<D> m = build_model<D>(c);
+    RunOptions options;
+    options.write_output = false;
+    std::vector<Clock::time_point> ends;
+    ends.reserve(4096);
+    const RunSummary s = run_simulation<D>(m, c, options, [&](const ExplicitSolver<D>&) { ends.push_back(Clock::now()); });
+    const auto t1 = Clock::now();
+    std::vector<double> intervals;
+    for (std::size_t k = 1; k < ends.size(); ++k) intervals.push_back(std::chrono::duration<double>(ends[k] - ends[k - 1]).count());
+    std::sort(intervals.begin(), intervals.end());
+    const double step = intervals.empty() ? 0.0 : intervals[intervals.size() / 2];
+    const double first_end = ends.empty() ? 0.0 : std::chrono::duration<double>(ends.front() - t0).count();
+    rounds.push_back({std::chrono::duration<double>(t1 - t0).count(), std::max(0.0, first_end - step)});
+    steps = s.steps;
+    particles = m.particles.size();
+  }
+  std::sort(rounds.begin(), rounds.end(), [](const Round& a, const Round& b) { return a.wall < b.wall; });
+  const Round& med = rounds[rounds.size() / 2];
+  const double n = static_cast<double>(particles) * static_cast<double>(steps);
+  fmt::print("{:<34} {:>9} particles  {} thread{}  {:.3e} particle-steps/s whole run (best round {:.3e})  {} steps "
+             "in {:.3f} s, start-up {:.3f} s ({:.1f} %)  peak RSS {:.0f} MB\n",
+             name, particles, threads, threads > 1 ? "s" : " ", n / med.wall, n / rounds.front().wall, steps, med.wall,
+             med.startup, 100.0 * med.startup / med.wall, peak_rss_mb());
+}
+
+void whole_runs(const std::vector<int>& threads) {
+  const std::string dir = std::string(TSUCHI_SOURCE_DIR) + "/bench/cases/";
+  for (int t : threads) whole_run<2>(dir + "triaxial_2d.toml", "whole run: triaxial geometry, 2D", t);
+  for (int t : threads) whole_run<3>(dir + "slab_3d.toml", "whole run: triaxial geometry, 3D slab", t);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   const bool only_triaxial = argc > 1 && std::strcmp(argv[1], "--triaxial") == 0;
+  const bool only_whole = argc > 1 && std::strcmp(argv[1], "--whole") == 0;
+  if (argc > 2 || (argc == 2 && !quick && !only_triaxial && !only_whole)) {
+    std::fprintf(stderr, "usage: tsuchi-bench [--quick | --triaxial | --whole]\n");
+    return 2;
+  }
   const int cores = omp_get_num_procs();
   std::vector<int> threads{1};
   if (cores > 1) threads.push_back(cores);
@@ -157,9 +216,14 @@ int main(int argc, char** argv) {
     block<3>(10, 10, threads);   // 8,000 particles
     return 0;
   }
+  if (only_whole) {
+    whole_runs(threads);
+    return 0;
+  }
   triaxial(2000, threads);
   triaxial(2000, threads, true);
   if (only_triaxial) return 0;
+  whole_runs(threads);
   block<2>(50, 400, threads);    // 10,000 particles
   block<2>(158, 40, threads);    // 99,856 particles
   block<2>(500, 10, threads);    // 1,000,000 particles

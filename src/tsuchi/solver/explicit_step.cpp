@@ -623,10 +623,8 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
   const auto& by_material = m_.step.anti_locking;
   // One average per body field and material: bodies in contact do not share their volume change,
   // nor do two materials bonded in one field (solver/nodal_average.hpp).
-  std::vector<std::uint8_t> averaged(m_.materials.size());
-  for (std::size_t mat = 0; mat < averaged.size(); ++mat)
-    averaged[mat] = mat < by_material.size() && node_averaged(by_material[mat]);
-  volume_strain_average_.begin(schedule_, g.size(), first_field_, last_field_, averaged);
+  volume_strain_average_.begin(schedule_, g.size(), first_field_, last_field_, m_.materials.size(),
+                               [&](std::size_t mat) { return mat < by_material.size() && node_averaged(by_material[mat]); });
   struct Sums {
     Vec<D> w, dw;
   };
@@ -676,10 +674,8 @@ bool ExplicitSolver<D>::average_pressure() {
   const auto& p = m_.particles;
   const auto& by_material = m_.step.anti_locking;
   if (std::find(by_material.begin(), by_material.end(), AntiLocking::Bbar) == by_material.end()) return false;
-  std::vector<std::uint8_t> averaged(m_.materials.size());
-  for (std::size_t mat = 0; mat < averaged.size(); ++mat)
-    averaged[mat] = mat < by_material.size() && by_material[mat] == AntiLocking::Bbar;
-  pressure_average_.begin(schedule_, g.size(), first_field_, last_field_, averaged);
+  pressure_average_.begin(schedule_, g.size(), first_field_, last_field_, m_.materials.size(),
+                          [&](std::size_t mat) { return mat < by_material.size() && by_material[mat] == AntiLocking::Bbar; });
   schedule_.scatter([&](std::size_t i) {
     if (!takes_averaged_pressure(i)) return;
     const int field = field_of(i);

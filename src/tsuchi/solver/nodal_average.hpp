@@ -31,14 +31,15 @@ template <int D>
 class NodalAverage {
  public:
   // Zeroes the sums of body fields first..last on the active nodes of a grid of `grid_size` nodes,
-  // for the materials m with averaged[m] set (the others take no part).
-  void begin(const BlockSchedule<D>& schedule, std::size_t grid_size, int first, int last,
-             const std::vector<std::uint8_t>& averaged) {
+  // for the materials m < `materials` with averaged(m) true (the others take no part).
+  template <class Averaged>
+  void begin(const BlockSchedule<D>& schedule, std::size_t grid_size, int first, int last, std::size_t materials,
+             Averaged&& averaged) {
     size_ = grid_size;
-    slot_.assign(averaged.size(), 0);
+    slot_.assign(materials, 0);
     slots_ = 0;
-    for (std::size_t mat = 0; mat < averaged.size(); ++mat)
-      if (averaged[mat]) slot_[mat] = slots_++;
+    for (std::size_t mat = 0; mat < materials; ++mat)
+      if (averaged(mat)) slot_[mat] = slots_++;
     const std::size_t slots = size_ * static_cast<std::size_t>(last + 1) * slots_;
     sum_.resize(slots);
     weight_.resize(slots);
@@ -91,12 +92,15 @@ class NodalAverage {
  private:
   // Only for a material that takes the average (averaged[material] set in begin).
   std::size_t offset(int field, int material) const {
-    return (static_cast<std::size_t>(field) * slots_ + slot_[static_cast<std::size_t>(material)]) * size_;
+    return slot_offset(field, slot_[static_cast<std::size_t>(material)]);
+  }
+  std::size_t slot_offset(int field, std::size_t slot) const {
+    return (static_cast<std::size_t>(field) * slots_ + slot) * size_;
   }
   template <class F> void for_fields(const BlockSchedule<D>& schedule, F&& f) {
     for (int field = first_; field <= last_; ++field)
       for (std::size_t slot = 0; slot < slots_; ++slot) {
-        const std::size_t o = (static_cast<std::size_t>(field) * slots_ + slot) * size_;
+        const std::size_t o = slot_offset(field, slot);
         schedule.for_active_nodes([&](std::int64_t k) {
           f(sum_[o + static_cast<std::size_t>(k)], weight_[o + static_cast<std::size_t>(k)]);
         });

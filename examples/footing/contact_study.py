@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Rigid strip footing in contact with the soil: q/c against Prandtl's N_c for a rough and a smooth
 footing (footing_rough.toml, footing_smooth.toml) at 10, 20 (and 40) cells per footing width,
-beside the bonded footing of footing.toml.
+beside the bonded footing of footing.toml run with the same soil (G/c = 100: BONDED_G100 below).
 
     /usr/bin/python3 examples/footing/contact_study.py [--tsuchi build/app/tsuchi]
         [--out results/footing_contact] [--cells 10 20 40] [--kinds rough smooth bonded]
@@ -22,13 +22,18 @@ from study import PHI, curve, plateau, prandtl_nc  # noqa: E402
 
 EXTRA = []  # --set overrides for every run
 INPUTS = {"rough": "footing_rough.toml", "smooth": "footing_smooth.toml", "bonded": "footing.toml"}
+WINDOW = (0.05, 0.10)  # the plateau of the G/c = 100 soil the contact inputs use
+# footing.toml uses G/c = 1000 and stops at s/B = 0.02; the bonded comparison takes the contact
+# inputs' soil, loading rate and end instead.
+BONDED_G100 = ["materials.0.shear_modulus=1e6", "bodies.1.prescribed_velocity={ x = 0.0, y = -0.05 }",
+               "time.end=3", "recorders.0.stop_above=0.1"]
 
 
 def run(tsuchi, out, kind, cells):
     os.makedirs(out, exist_ok=True)
     cmd = [tsuchi, "run", os.path.join(HERE, INPUTS[kind]), "-q", "--threads", "1", "--output", out,
            "--set", "output.frames=false", "--set", f"grid.cell_size={1.0 / cells:g}"]
-    for extra in EXTRA:
+    for extra in (BONDED_G100 if kind == "bonded" else []) + EXTRA:
         cmd += ["--set", extra]
     start = time.monotonic()
     r = subprocess.run(cmd, capture_output=True, text=True)
@@ -72,7 +77,7 @@ def main():
         for c in a.cells:
             if (k, c) in results:
                 s, q = results[(k, c)]
-                v = plateau(s, q)
+                v = plateau(s, q, WINDOW)
                 reached = max(s) if s else 0.0
                 note = "" if reached >= 0.1 - 1e-6 else f", to s/B = {reached:.3f}"
                 cells.append(f"{v:.3f} ({100 * (v / nc - 1):+.1f} %{note})")

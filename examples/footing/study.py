@@ -71,8 +71,8 @@ def curve(out):
     return s, q
 
 
-def plateau(s, q):
-    late = [qq for ss, qq in zip(s, q) if WINDOW[0] <= ss <= WINDOW[1] + 1e-9]
+def plateau(s, q, window=WINDOW):
+    late = [qq for ss, qq in zip(s, q) if window[0] <= ss <= window[1] + 1e-9]
     return sum(late) / len(late) if late else float("nan")
 
 

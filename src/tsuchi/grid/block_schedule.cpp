@@ -1,7 +1,10 @@
 #include "tsuchi/grid/block_schedule.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <array>
+#include <limits>
 
 namespace tsuchi {
 
@@ -17,7 +20,8 @@ void BlockSchedule<D>::build(const Grid<D>& grid, const std::vector<Vec<D>>& x, 
   const auto n = static_cast<std::int64_t>(x.size());
   // The last schedule still holds if every particle stayed in its block, as nearly all do in a
   // step: the sort below would rebuild it entry for entry. Only the pass over positions runs then.
-  bool same = valid_ && blocks == blocks_ && reach == reach_ && block_of_.size() == x.size();
+  const int threads = omp_get_max_threads();
+  bool same = valid_ && blocks == blocks_ && reach == reach_ && block_of_.size() == x.size() && threads == threads_;
   blocks_ = blocks;
   reach_ = reach;
   block_of_.resize(x.size());
@@ -80,13 +84,64 @@ void BlockSchedule<D>::build(const Grid<D>& grid, const std::vector<Vec<D>>& x, 
   active_tiles_.clear();
   for (std::int64_t t = 0; t < n_tiles; ++t)
     if (tile_mark_[static_cast<std::size_t>(t)]) active_tiles_.push_back(static_cast<std::int32_t>(t));
-  // Fullest blocks first, so that the threads end a colour on small blocks and wait less for each
-  // other. Blocks of one colour write disjoint nodes: their order does not change any result.
-  for (auto& c : colour_blocks_)
-    std::sort(c.begin(), c.end(), [&](std::int32_t a, std::int32_t b) {
-      const auto na = start_[a + 1] - start_[a], nb = start_[b + 1] - start_[b];
-      return na != nb ? na > nb : a < b;
-    });
+  // Each colour's blocks stay in increasing index (the order they were listed in), so that a
+  // thread's part of the grid is one run of each list.
+  partition(threads, tiles);
+}
+
+template <int D>
+void BlockSchedule<D>::partition(int threads, const std::array<int, D>& tiles) {
+  threads_ = threads;
+  const auto T = static_cast<std::size_t>(threads);
+  const auto n_blocks = static_cast<std::int64_t>(start_.size()) - 1;
+  const std::int64_t n = start_.back();
+  // Thread t's blocks start at the first block with t n / T particles before it.
+  std::vector<std::int64_t> bound(T + 1, n_blocks);
+  bound[0] = 0;
+  for (std::size_t t = 1; t < T; ++t) {
+    const std::int64_t target = n * static_cast<std::int64_t>(t) / static_cast<std::int64_t>(T);
+    bound[t] = std::lower_bound(start_.begin(), start_.end() - 1, target) - start_.begin();
+  }
+  colour_cut_.assign(colour_blocks_.size() * (T + 1), 0);
+  for (std::size_t c = 0; c < colour_blocks_.size(); ++c) {
+    const auto& list = colour_blocks_[c];
+    for (std::size_t t = 0; t <= T; ++t)
+      colour_cut_[c * (T + 1) + t] =
+          static_cast<std::size_t>(std::lower_bound(list.begin(), list.end(), bound[t]) - list.begin());
+  }
+  // The tile of block b has the same coordinates; tiles run in the same axis order, so block
+  // order is tile order.
+  tile_cut_.assign(T + 1, active_tiles_.size());
+  for (std::size_t t = 0; t < T; ++t) {
+    std::int64_t tile = std::numeric_limits<std::int64_t>::max();
+    if (bound[t] < n_blocks) {
+      tile = 0;
+      std::int64_t rest = bound[t], stride = 1;
+      for (int d = 0; d < D; ++d) {
+        tile += rest % blocks_[d] * stride;
+        rest /= blocks_[d], stride *= tiles[d];
+      }
+    }
+    tile_cut_[t] = static_cast<std::size_t>(
+        std::lower_bound(active_tiles_.begin(), active_tiles_.end(), tile,
+                         [](std::int32_t a, std::int64_t b) { return a < b; }) - active_tiles_.begin());
+  }
+  tile_cut_[0] = 0;
+}
+
+template <int D>
+typename BlockSchedule<D>::Part BlockSchedule<D>::my_part() const {
+  Part part;
+  part.thread = static_cast<std::size_t>(omp_get_thread_num());
+  part.threads = static_cast<std::size_t>(omp_get_num_threads());
+  part.cut = static_cast<int>(part.threads) == threads_;
+  if (part.cut) {
+    part.first_tile = tile_cut_[part.thread], part.last_tile = tile_cut_[part.thread + 1];
+  } else {
+    part.first_tile = active_tiles_.size() * part.thread / part.threads;
+    part.last_tile = active_tiles_.size() * (part.thread + 1) / part.threads;
+  }
+  return part;
 }
 
 template class BlockSchedule<2>;

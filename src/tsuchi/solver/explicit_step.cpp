@@ -113,6 +113,7 @@ void ExplicitSolver<D>::step_with(double dt) {
     schedule_.invalidate();
     schedule_.build(g, m_.particles.x_p, reach);
   }
+  compute_stencils<Kernel, How>();
   begin_loads(dt);
   if (contact_on()) contact_.begin_step(m_, schedule_, motion_scale_);
   // Local damping acts on the free motion only: a component a prescribed body drives is held, and
@@ -184,6 +185,28 @@ template <int D, class Kernel>
   else if (node_averaged(remedy)) replace_volumetric_strain<D>(d_eps, average.gather(st, field, material));
 }
 
+}  // namespace
+
+// Every particle's stencil at its start-of-step position and width, once per step: the stages
+// that follow all use these (USF defers the domain update, USL and MUSL move a particle only at
+// the end of its own stress update), so computing it once gives the same weights, bit for bit, as
+// computing it in each stage. The affine transfer also needs the nodes' offsets.
+template <int D>
+template <class Kernel, VelocityTransfer How>
+void ExplicitSolver<D>::compute_stencils() {
+  const auto& g = m_.grid;
+  const auto& p = m_.particles;
+  auto& cache = stencils<Kernel>();
+  cache.resize(p.size());
+  schedule_.for_each_particle([&](std::size_t i) {
+    auto& st = cache[i];
+    st.compute(g, p.x_p[i], p.l_p[i]);
+    if constexpr (How == Transfer::Apic) st.compute_offsets(g.h);
+  });
+}
+
+namespace {
+
 // Zeroes nodal arrays on the active tiles, in one parallel loop: a serial fill of the whole grid
 // would be the largest serial part of the step.
 template <int D, class... Arrays>
@@ -232,8 +255,7 @@ void ExplicitSolver<D>::p2g() {
     double* const m_g = n.m.data();
     Vec<D>* const p_g = n.p.data();
     Vec<D>* const f_g = n.f.data();
-    Stencil<D, Kernel> st;
-    st.compute(g, p.x_p[i], p.l_p[i]);
+    const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
     const double m = p.m_p[i];
     Mat3 s = to_matrix<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i]));
     if constexpr (force)
@@ -268,7 +290,6 @@ void ExplicitSolver<D>::p2g() {
         Vec<D> mC_x;  // T m C e_x
       };
       const Mat<D> mC = m * p.C_p[i];
-      st.compute_offsets(g.h);
       st.scatter(
           [&](double T, const std::array<double, D - 1>& dT, const std::array<double, D - 1>& ry) {
             Vec<D> mv_row = mv;
@@ -293,7 +314,6 @@ void ExplicitSolver<D>::p2g() {
 template <int D>
 template <class Kernel>
 void ExplicitSolver<D>::scatter_mass_gradient() {
-  const auto& g = m_.grid;
   const auto& p = m_.particles;
   struct Row {
     double Tm;
@@ -301,8 +321,7 @@ void ExplicitSolver<D>::scatter_mass_gradient() {
   };
   schedule_.scatter([&](std::size_t i) {
     Vec<D>* const gm = contact_.mass_gradient(field_of(i)).data();
-    Stencil<D, Kernel> st;
-    st.compute(g, p.x_p[i], p.l_p[i]);
+    const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
     const double m = p.m_p[i];
     st.scatter(
         [&](double T, const std::array<double, D - 1>& dT) {
@@ -478,9 +497,7 @@ void ExplicitSolver<D>::for_each_gathering_particle(F&& particle) {
   if constexpr (Then == AfterGather::Remap) {
     schedule_.scatter(particle);
   } else {
-    const auto np = static_cast<std::int64_t>(m_.particles.size());
-#pragma omp parallel for schedule(static)
-    for (std::int64_t i = 0; i < np; ++i) particle(static_cast<std::size_t>(i));
+    schedule_.for_each_particle(particle);
   }
 }
 
@@ -499,8 +516,7 @@ void ExplicitSolver<D>::g2p_flip(double dt) {
     const Vec<D>* const a_g = n.a.data();  // local addresses: see p2g
     const Vec<D>* const vL_g = n.vL.data();
     Vec<D>* const p_g = n.p.data();
-    Stencil<D, Kernel> st;
-    st.compute(g, p.x_p[i], p.l_p[i]);
+    const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
     Vec<D> a = Vec<D>::Zero(), vL = Vec<D>::Zero();
     st.gather(
         zero,
@@ -534,7 +550,7 @@ template <class Kernel, typename ExplicitSolver<D>::AfterGather Then>
 void ExplicitSolver<D>::g2p_affine(double dt) {
   auto& g = m_.grid;
   auto& p = m_.particles;
-  const double h = g.h, tiny = 1e-12 * g.h * g.h;
+  const double tiny = 1e-12 * g.h * g.h;
   // Sums along x of w v^L, w rx v^L, w, w rx, w rx^2; the row factors T, ry then give v_p, B_p, D_p.
   struct Sums {
     Vec<D> v, v_rx;
@@ -545,9 +561,7 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
     auto& n = g.fields[static_cast<std::size_t>(field_of(i))];
     const Vec<D>* const vL_g = n.vL.data();  // local addresses: see p2g
     Vec<D>* const p_g = n.p.data();
-    Stencil<D, Kernel> st;
-    st.compute(g, p.x_p[i], p.l_p[i]);
-    st.compute_offsets(h);
+    const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
     Vec<D> vL = Vec<D>::Zero();
     Mat<D> B = Mat<D>::Zero(), Dp = Mat<D>::Zero();
     st.gather(
@@ -635,8 +649,7 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
     if (rigid_field_[static_cast<std::size_t>(field_of(i))]) return;  // takes no remedy (update_stress)
     const std::size_t field = static_cast<std::size_t>(field_of(i));
     const Vec<D>* const v_g = (g.fields[field].*v_strain).data();
-    Stencil<D, Kernel> st;
-    st.compute(g, p.x_p[i], p.l_p[i]);
+    const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
     double div = 0.0;  // tr L = sum_i G_i . v_i
     st.gather(
         zero,
@@ -679,8 +692,7 @@ bool ExplicitSolver<D>::average_pressure() {
   schedule_.scatter([&](std::size_t i) {
     if (!takes_averaged_pressure(i)) return;
     const int field = field_of(i);
-    Stencil<D, Kernel> st;
-    st.compute(g, p.x_p[i], p.l_p[i]);
+    const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
     const double V = p.V_p[i];
     pressure_average_.add(st, field, p.material_p[i], V, V * trace<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i])) / 3.0);
   });
@@ -725,20 +737,16 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
           constexpr bool can_release = requires(const M& mm, StateRef s) { mm.released(s); };
           const typename M::Context context = model.context();
           const auto state = state_columns<M>(p);
-          const auto np = static_cast<std::int64_t>(p.size());
-          // Dynamic: yielding points cost several times more than elastic ones, and they gather
-          // in the shear bands. Every point's update is its own, so the result does not depend on
-          // which thread takes which chunk.
-#pragma omp for schedule(dynamic, 128) nowait
-          for (std::int64_t ii = 0; ii < np; ++ii) {
-            const auto i = static_cast<std::size_t>(ii);
-            if (p.material_p[i] != static_cast<std::int32_t>(mat)) continue;
+          // Block by block, each thread the blocks it scattered (grid/block_schedule.hpp): the
+          // particle's data are still in its cache. Every point's update is its own, so the
+          // result does not depend on which thread takes which block.
+          schedule_.for_each_particle_in_region([&](std::size_t i) {
+            if (p.material_p[i] != static_cast<std::int32_t>(mat)) return;
             const std::size_t field = static_cast<std::size_t>(field_of(i));
             const auto& n = g.fields[field];
             const Vec<D>* const v_g = (n.*v_strain).data();  // local addresses: see p2g
             const Vec<D>* const vL_g = n.vL.data();
-            Stencil<D, Kernel> st;
-            st.compute(g, p.x_p[i], p.l_p[i]);
+            const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
             // L = sum v G^T, column j = sum v G_j; along x first, then the row factors.
             Mat<D> L = Mat<D>::Zero();
             Vec<D> vL = Vec<D>::Zero();
@@ -788,7 +796,7 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
               else update_particle_domain<D>(p.l_p[i], d_eps, g.h);
             }
             if constexpr (move) move_particle(i, dt, vL);
-          }
+          });
         },
         materials[mat].model);
   }

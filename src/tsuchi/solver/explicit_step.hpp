@@ -24,11 +24,15 @@
 #include "tsuchi/solver/held_nodes.hpp"
 #include "tsuchi/solver/load_stage.hpp"
 #include "tsuchi/solver/nodal_average.hpp"
+#include "tsuchi/shape/gimp.hpp"
+#include "tsuchi/shape/linear.hpp"
+#include "tsuchi/shape/stencil.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <vector>
 #include <string>
 
@@ -107,6 +111,11 @@ class ExplicitSolver {
   int field_of(std::size_t i) const { return field_of_body_[static_cast<std::size_t>(m_.particles.body_p[i])]; }
   // Body fields first_field_..last_field_: 0..0 without contact between bodies.
   bool contact_on() const { return m_.contact.active(); }
+  template <class Kernel, Transfer How> void compute_stencils();
+  template <class Kernel> std::vector<Stencil<D, Kernel>>& stencils() {
+    if constexpr (std::is_same_v<Kernel, shape::GimpKernel>) return gimp_stencils_;
+    else return linear_stencils_;
+  }
   template <class Kernel> void scatter_mass_gradient();
   template <class F> void for_body_fields(F&& f) {
     for (int k = first_field_; k <= last_field_; ++k) f(k, m_.grid.field(k));
@@ -170,6 +179,9 @@ class ExplicitSolver {
   mutable double ratio_ = 0.0;               // unbalanced_force_ratio() of step ratio_step_
   mutable std::int64_t ratio_step_ = -1;
   mutable std::vector<std::array<double, 3>> tile_sums_;  // per active tile: max, sum, count
+  // This step's stencil of every particle (compute_stencils), for the kernel in use.
+  std::vector<Stencil<D, shape::GimpKernel>> gimp_stencils_;
+  std::vector<Stencil<D, shape::LinearKernel>> linear_stencils_;
   NodalAverage<D> volume_strain_average_;  // anti_locking = "node" and "bbar": eq (V3)
   NodalAverage<D> pressure_average_;       // anti_locking = "bbar": the pressures of eq (V5)
   // Per node: bit d set where a held body drives component d; with contact, per body field at

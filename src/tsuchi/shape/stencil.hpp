@@ -56,27 +56,41 @@ struct Stencil {
   Eigen::Array<int, D, 1> node0;  // first node index per axis, unclamped
   Eigen::Array<double, D, 1> xi;  // (x_p - origin) / h
 
-  [[gnu::always_inline]] inline void compute(const Grid<D>& grid, const Vec<D>& x, const Vec<D>& lp) {
-    using Axes = Eigen::Array<double, D, 1>;
-    std::array<Axes, K> wa, dwa;
-    xi = (x - grid.origin).array() * grid.inv_h;
-    const Eigen::Array<int, D, 1> i0 = Kernel::template weights<D>(xi, grid.inv_h, lp.array(), wa, dwa);
-    node0 = i0;
+  // What the stencil is made of, per axis: the weights and derivatives (zero off the grid's
+  // edge), the first node and (x_p - origin) / h. A step keeps these per particle (168 bytes in 2D,
+  // 252 in 3D; solver/explicit_step.cpp) and every stage assembles its stencil from them,
+  // which costs a few table reads and, in 3D, the 27 row products, not the kernel again.
+  struct Axes {
     std::array<std::array<double, K>, D> w, dw;
-    std::array<std::array<std::int64_t, K>, D> off;
+    std::array<std::array<std::int64_t, K>, D> off;  // index terms per axis
+    Eigen::Array<int, D, 1> node0;  // first node index per axis, unclamped
+    Eigen::Array<double, D, 1> xi;
+  };
+
+  [[gnu::always_inline]] static inline void axes(const Grid<D>& grid, const Vec<D>& x, const Vec<D>& lp, Axes& out) {
+    using A = Eigen::Array<double, D, 1>;
+    std::array<A, K> wa, dwa;
+    out.xi = (x - grid.origin).array() * grid.inv_h;
+    out.node0 = Kernel::template weights<D>(out.xi, grid.inv_h, lp.array(), wa, dwa);
     for (int d = 0; d < D; ++d) {
-      // Only a particle outside the grid, about to be reported, needs the clamp: it keeps the
-      // table reads inside the tables.
-      constexpr int E = Grid<D>::kEdge;
-      const auto first = static_cast<std::size_t>(std::clamp(i0[d], -E, grid.n_nodes[d] + E - K) + E);
-      const std::int64_t* term = grid.axis_term[d].data() + first;
+      const std::size_t first = first_entry(grid, d, out.node0[d]);
       const double* inside = grid.axis_inside[d].data() + first;
+      const std::int64_t* term = grid.axis_term[d].data() + first;
       for (int k = 0; k < K; ++k) {
-        off[d][k] = term[k];
-        w[d][k] = wa[k][d] * inside[k];
-        dw[d][k] = dwa[k][d] * inside[k];
+        out.w[d][k] = wa[k][d] * inside[k];
+        out.dw[d][k] = dwa[k][d] * inside[k];
+        out.off[d][k] = term[k];
       }
     }
+  }
+
+  // The row form below from the per-axis factors.
+  [[gnu::always_inline]] inline void assemble(const Axes& a) {
+    node0 = a.node0;
+    xi = a.xi;
+    const auto& w = a.w;
+    const auto& dw = a.dw;
+    const auto& off = a.off;
     wx = w[0], dwx = dw[0], offx = off[0];
     if constexpr (D == 2) {
       for (int b = 0; b < K; ++b) T[b] = w[1][b], dT[b][0] = dw[1][b], row[b] = off[1][b];
@@ -90,6 +104,12 @@ struct Stencil {
           row[r] = off[1][b] + off[2][c];
         }
     }
+  }
+
+  [[gnu::always_inline]] inline void compute(const Grid<D>& grid, const Vec<D>& x, const Vec<D>& lp) {
+    Axes a;
+    axes(grid, x, lp, a);
+    assemble(a);
   }
 
   // The nodes' offsets from the particle, x_i - x_p = h (i - xi), for the functions that take them.
@@ -159,6 +179,14 @@ struct Stencil {
     g[0] = dwx[a] * T[r];
     for (int d = 1; d < D; ++d) g[d] = wx[a] * dT[r][d - 1];
     return g;
+  }
+
+ private:
+  // The entry of node i0 in the grid's per-axis tables. Only a particle outside the grid, about
+  // to be reported, needs the clamp: it keeps the table reads inside the tables.
+  static std::size_t first_entry(const Grid<D>& grid, int d, int i0) {
+    constexpr int E = Grid<D>::kEdge;
+    return static_cast<std::size_t>(std::clamp(i0, -E, grid.n_nodes[d] + E - K) + E);
   }
 };
 

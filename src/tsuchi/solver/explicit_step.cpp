@@ -113,7 +113,7 @@ void ExplicitSolver<D>::step_with(double dt) {
     schedule_.invalidate();
     schedule_.build(g, m_.particles.x_p, reach);
   }
-  compute_stencils<Kernel, How>();
+  compute_stencils<Kernel>();
   begin_loads(dt);
   if (contact_on()) contact_.begin_step(m_, schedule_, motion_scale_);
   // Local damping acts on the free motion only: a component a prescribed body drives is held, and
@@ -190,19 +190,15 @@ template <int D, class Kernel>
 // Every particle's stencil at its start-of-step position and width, once per step: the stages
 // that follow all use these (USF defers the domain update, USL and MUSL move a particle only at
 // the end of its own stress update), so computing it once gives the same weights, bit for bit, as
-// computing it in each stage. The affine transfer also needs the nodes' offsets.
+// computing it in each stage.
 template <int D>
-template <class Kernel, VelocityTransfer How>
+template <class Kernel>
 void ExplicitSolver<D>::compute_stencils() {
   const auto& g = m_.grid;
   const auto& p = m_.particles;
   auto& cache = stencils<Kernel>();
   cache.resize(p.size());
-  schedule_.for_each_particle([&](std::size_t i) {
-    auto& st = cache[i];
-    st.compute(g, p.x_p[i], p.l_p[i]);
-    if constexpr (How == Transfer::Apic) st.compute_offsets(g.h);
-  });
+  schedule_.for_each_particle([&](std::size_t i) { Stencil<D, Kernel>::axes(g, p.x_p[i], p.l_p[i], cache[i]); });
 }
 
 namespace {
@@ -255,7 +251,8 @@ void ExplicitSolver<D>::p2g() {
     double* const m_g = n.m.data();
     Vec<D>* const p_g = n.p.data();
     Vec<D>* const f_g = n.f.data();
-    const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
+    Stencil<D, Kernel> st;
+    st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
     const double m = p.m_p[i];
     Mat3 s = to_matrix<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i]));
     if constexpr (force)
@@ -290,6 +287,7 @@ void ExplicitSolver<D>::p2g() {
         Vec<D> mC_x;  // T m C e_x
       };
       const Mat<D> mC = m * p.C_p[i];
+      st.compute_offsets(g.h);
       st.scatter(
           [&](double T, const std::array<double, D - 1>& dT, const std::array<double, D - 1>& ry) {
             Vec<D> mv_row = mv;
@@ -321,7 +319,8 @@ void ExplicitSolver<D>::scatter_mass_gradient() {
   };
   schedule_.scatter([&](std::size_t i) {
     Vec<D>* const gm = contact_.mass_gradient(field_of(i)).data();
-    const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
+    Stencil<D, Kernel> st;
+    st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
     const double m = p.m_p[i];
     st.scatter(
         [&](double T, const std::array<double, D - 1>& dT) {
@@ -516,7 +515,8 @@ void ExplicitSolver<D>::g2p_flip(double dt) {
     const Vec<D>* const a_g = n.a.data();  // local addresses: see p2g
     const Vec<D>* const vL_g = n.vL.data();
     Vec<D>* const p_g = n.p.data();
-    const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
+    Stencil<D, Kernel> st;
+    st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
     Vec<D> a = Vec<D>::Zero(), vL = Vec<D>::Zero();
     st.gather(
         zero,
@@ -561,7 +561,9 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
     auto& n = g.fields[static_cast<std::size_t>(field_of(i))];
     const Vec<D>* const vL_g = n.vL.data();  // local addresses: see p2g
     Vec<D>* const p_g = n.p.data();
-    const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
+    Stencil<D, Kernel> st;
+    st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
+    st.compute_offsets(g.h);
     Vec<D> vL = Vec<D>::Zero();
     Mat<D> B = Mat<D>::Zero(), Dp = Mat<D>::Zero();
     st.gather(
@@ -649,7 +651,8 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
     if (rigid_field_[static_cast<std::size_t>(field_of(i))]) return;  // takes no remedy (update_stress)
     const std::size_t field = static_cast<std::size_t>(field_of(i));
     const Vec<D>* const v_g = (g.fields[field].*v_strain).data();
-    const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
+    Stencil<D, Kernel> st;
+    st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
     double div = 0.0;  // tr L = sum_i G_i . v_i
     st.gather(
         zero,
@@ -692,7 +695,8 @@ bool ExplicitSolver<D>::average_pressure() {
   schedule_.scatter([&](std::size_t i) {
     if (!takes_averaged_pressure(i)) return;
     const int field = field_of(i);
-    const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
+    Stencil<D, Kernel> st;
+    st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
     const double V = p.V_p[i];
     pressure_average_.add(st, field, p.material_p[i], V, V * trace<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i])) / 3.0);
   });
@@ -746,7 +750,8 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
             const auto& n = g.fields[field];
             const Vec<D>* const v_g = (n.*v_strain).data();  // local addresses: see p2g
             const Vec<D>* const vL_g = n.vL.data();
-            const Stencil<D, Kernel>& st = stencils<Kernel>()[i];  // this step's (compute_stencils)
+            Stencil<D, Kernel> st;
+            st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
             // L = sum v G^T, column j = sum v G_j; along x first, then the row factors.
             Mat<D> L = Mat<D>::Zero();
             Vec<D> vL = Vec<D>::Zero();

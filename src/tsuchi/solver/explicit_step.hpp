@@ -111,8 +111,8 @@ class ExplicitSolver {
   int field_of(std::size_t i) const { return field_of_body_[static_cast<std::size_t>(m_.particles.body_p[i])]; }
   // Body fields first_field_..last_field_: 0..0 without contact between bodies.
   bool contact_on() const { return m_.contact.active(); }
-  template <class Kernel, Transfer How> void compute_stencils();
-  template <class Kernel> std::vector<Stencil<D, Kernel>>& stencils() {
+  template <class Kernel> void compute_stencils();
+  template <class Kernel> std::vector<typename Stencil<D, Kernel>::Axes>& stencils() {
     if constexpr (std::is_same_v<Kernel, shape::GimpKernel>) return gimp_stencils_;
     else return linear_stencils_;
   }
@@ -179,9 +179,9 @@ class ExplicitSolver {
   mutable double ratio_ = 0.0;               // unbalanced_force_ratio() of step ratio_step_
   mutable std::int64_t ratio_step_ = -1;
   mutable std::vector<std::array<double, 3>> tile_sums_;  // per active tile: max, sum, count
-  // This step's stencil of every particle (compute_stencils), for the kernel in use.
-  std::vector<Stencil<D, shape::GimpKernel>> gimp_stencils_;
-  std::vector<Stencil<D, shape::LinearKernel>> linear_stencils_;
+  // This step's stencil factors of every particle (compute_stencils), for the kernel in use.
+  std::vector<typename Stencil<D, shape::GimpKernel>::Axes> gimp_stencils_;
+  std::vector<typename Stencil<D, shape::LinearKernel>::Axes> linear_stencils_;
   NodalAverage<D> volume_strain_average_;  // anti_locking = "node" and "bbar": eq (V3)
   NodalAverage<D> pressure_average_;       // anti_locking = "bbar": the pressures of eq (V5)
   // Per node: bit d set where a held body drives component d; with contact, per body field at

@@ -102,6 +102,13 @@ void BlockSchedule<D>::partition(int threads, const std::array<int, D>& tiles) {
     const std::int64_t target = n * static_cast<std::int64_t>(t) / static_cast<std::int64_t>(T);
     bound[t] = std::lower_bound(start_.begin(), start_.end() - 1, target) - start_.begin();
   }
+  blocks_in_order_.clear();
+  for (std::int64_t b = 0; b < n_blocks; ++b)
+    if (start_[b + 1] > start_[b]) blocks_in_order_.push_back(static_cast<std::int32_t>(b));
+  block_cut_.resize(T + 1);
+  for (std::size_t t = 0; t <= T; ++t)
+    block_cut_[t] = static_cast<std::size_t>(
+        std::lower_bound(blocks_in_order_.begin(), blocks_in_order_.end(), bound[t]) - blocks_in_order_.begin());
   colour_cut_.assign(colour_blocks_.size() * (T + 1), 0);
   for (std::size_t c = 0; c < colour_blocks_.size(); ++c) {
     const auto& list = colour_blocks_[c];
@@ -127,6 +134,13 @@ void BlockSchedule<D>::partition(int threads, const std::array<int, D>& tiles) {
                          [](std::int32_t a, std::int64_t b) { return a < b; }) - active_tiles_.begin());
   }
   tile_cut_[0] = 0;
+}
+
+template <int D>
+void BlockSchedule<D>::begin_balanced(std::size_t passes) const {
+  const std::size_t n = passes * static_cast<std::size_t>(std::max(threads_, 1));
+  if (n > next_size_) next_ = std::make_unique<std::atomic<std::size_t>[]>(n), next_size_ = n;
+  for (std::size_t k = 0; k < n; ++k) next_[k].store(0, std::memory_order_relaxed);
 }
 
 template <int D>

@@ -20,7 +20,9 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 namespace tsuchi {
@@ -87,6 +89,34 @@ class BlockSchedule {
   void for_each_particle_in_region(F&& f) const {
     const Part part = my_part();
     for (std::size_t c = 0; c < colour_blocks_.size(); ++c) run_blocks(c, part, f);
+  }
+
+  // For a pass of uneven cost per particle (the stress update: a yielding point costs several
+  // times an elastic one, and they gather in shear bands): each thread takes its own part's blocks
+  // first, one at a time and in order, then helps the others with what is left of theirs, so
+  // that only the particles it takes over change cores. begin_balanced(passes) resets the
+  // counters of that many passes before the enclosing parallel region; every thread of the region
+  // then calls this with the same pass numbers. Each particle's update is its own, so which
+  // thread takes it changes no result.
+  void begin_balanced(std::size_t passes) const;
+  template <class F>
+  void for_each_particle_balanced(std::size_t pass, F&& f) const {
+    const Part part = my_part();
+    if (!part.cut) {
+      for_each_particle_in_region(f);
+      return;
+    }
+    std::atomic<std::size_t>* next = next_.get() + pass * part.threads;
+    for (std::size_t o = 0; o < part.threads; ++o) {
+      const std::size_t t = (part.thread + o) % part.threads;
+      const std::size_t first = block_cut_[t], last = block_cut_[t + 1];
+      for (;;) {
+        const std::size_t k = first + next[t].fetch_add(1, std::memory_order_relaxed);
+        if (k >= last) break;
+        const std::int32_t b = blocks_in_order_[k];
+        for (std::int64_t j = start_[b]; j < start_[b + 1]; ++j) f(static_cast<std::size_t>(order_[j]));
+      }
+    }
   }
 
   // The same in a parallel region of its own.
@@ -161,6 +191,10 @@ class BlockSchedule {
   int threads_ = 0;                             // the thread count the parts were cut for
   std::vector<std::size_t> colour_cut_;         // per colour, per thread + 1: positions in its list
   std::vector<std::size_t> tile_cut_;           // per thread + 1: positions in active_tiles_
+  std::vector<std::int32_t> blocks_in_order_;   // the non-empty blocks, increasing
+  std::vector<std::size_t> block_cut_;          // per thread + 1: positions in blocks_in_order_
+  mutable std::unique_ptr<std::atomic<std::size_t>[]> next_;  // per balanced pass and part: blocks taken
+  mutable std::size_t next_size_ = 0;
   bool valid_ = false;                          // built, and the particles not reordered since
   std::array<int, D> blocks_{};
   Reach reach_{};

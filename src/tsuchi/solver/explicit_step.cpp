@@ -731,6 +731,7 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
     average_volumetric_strain<Kernel>(dt, v_strain);
   // One parallel region for every material group; a thread goes on to the next group without
   // waiting, as the groups hold different particles.
+  schedule_.begin_balanced(materials.size());
 #pragma omp parallel reduction(+ : released)
   for (std::size_t mat = 0; mat < materials.size(); ++mat) {
     // Missing entries (a model built by hand) keep the particle's own volumetric strain.
@@ -741,10 +742,12 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
           constexpr bool can_release = requires(const M& mm, StateRef s) { mm.released(s); };
           const typename M::Context context = model.context();
           const auto state = state_columns<M>(p);
-          // Block by block, each thread the blocks it scattered (grid/block_schedule.hpp): the
-          // particle's data are still in its cache. Every point's update is its own, so the
-          // result does not depend on which thread takes which block.
-          schedule_.for_each_particle_in_region([&](std::size_t i) {
+          // Block by block, each thread first the blocks it scattered, whose particles' data are
+          // still in its cache, then what is left of the others' (grid/block_schedule.hpp):
+          // yielding points cost several times more than elastic ones, and they gather in the
+          // shear bands. Every point's update is its own, so the result does not depend on which
+          // thread takes which block.
+          schedule_.for_each_particle_balanced(mat, [&](std::size_t i) {
             if (p.material_p[i] != static_cast<std::int32_t>(mat)) return;
             const std::size_t field = static_cast<std::size_t>(field_of(i));
             const auto& n = g.fields[field];

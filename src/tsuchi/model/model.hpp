@@ -10,6 +10,8 @@
 #include "tsuchi/model/node_sets.hpp"
 #include "tsuchi/model/step_settings.hpp"
 #include "tsuchi/particles/particles.hpp"
+#include "tsuchi/shape/gimp.hpp"
+#include "tsuchi/shape/stencil.hpp"
 
 #include <string>
 #include <vector>
@@ -63,12 +65,14 @@ struct Model {
 };
 
 // Peak memory of a run in bytes, from its grid slots (Grid::size) and particle count: the model
-// (Model::bytes) plus the block schedule and reordering scratch (peak RSS measured at 1.19 times
-// the model for 1e6 particles, BENCHMARKS.md), plus 32 MB for the program.
+// (Model::bytes) and the step's stencil factors per particle (Stencil::Axes), plus the block
+// schedule and reordering scratch (peak RSS measured at 1.19 times the model for 1e6 particles,
+// BENCHMARKS.md), plus 32 MB for the program.
 template <int D>
 double memory_estimate(double grid_slots, double particles, bool affine) {
   const double per_particle =
-      static_cast<double>(Particles<D>::bytes_per_particle(material_state_fields().size(), affine));
+      static_cast<double>(Particles<D>::bytes_per_particle(material_state_fields().size(), affine) +
+                          sizeof(typename Stencil<D, shape::GimpKernel>::Axes));
   const double model = grid_slots * Grid<D>::bytes_per_slot() + particles * per_particle;
   return 1.25 * model + 32e6;
 }

@@ -6,6 +6,7 @@
 #include "tsuchi/grid/grid.hpp"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <random>
@@ -123,6 +124,53 @@ void check_schedule(const std::array<int, D>& n, typename BlockSchedule<D>::Reac
   std::vector<int> visits(x.size(), 0);
   schedule.scatter([&](std::size_t i) { ++visits[i]; });
   EXPECT_EQ(std::count(visits.begin(), visits.end(), 1), static_cast<std::ptrdiff_t>(x.size()));
+}
+
+// Every pass of the schedule takes each particle, and each slot of the active tiles, exactly
+// once, whatever the thread count the parts were cut for and the team that runs them (a team of
+// another size, as in a nested region, splits the lists evenly instead), and the balanced pass
+// too, where threads take over blocks of the others' parts.
+TEST(BlockSchedule, EveryPassTakesEachParticleOnce) {
+  Grid<2> g;
+  g.n_nodes = {41, 23};
+  g.h = 0.5;
+  g.index_axes();
+  std::mt19937_64 rng(11u);
+  std::vector<Vec<2>> x(3000);
+  for (auto& p : x) {
+    // Crowded in the lower left: parts cut by particle count differ from parts cut by area.
+    const double u = std::uniform_real_distribution<double>(0.0, 1.0)(rng), v = std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+    p = Vec<2>(u * u * 20.0, v * v * v * 11.0);
+  }
+  const int max_threads = omp_get_max_threads();
+  for (const int cut_for : {1, 2, 3}) {
+    omp_set_num_threads(cut_for);
+    BlockSchedule<2> schedule;
+    schedule.build(g, x);
+    for (const int team : {1, 2, 3}) {
+      omp_set_num_threads(team);
+      std::vector<int> scattered(x.size(), 0), passed(x.size(), 0), balanced(x.size(), 0);
+      std::vector<int> slots(g.size(), 0);
+      schedule.scatter([&](std::size_t i) { ++scattered[i]; });
+      schedule.for_each_particle([&](std::size_t i) { ++passed[i]; });
+      schedule.begin_balanced(2);
+#pragma omp parallel
+      for (std::size_t pass = 0; pass < 2; ++pass)
+        schedule.for_each_particle_balanced(pass, [&](std::size_t i) {
+#pragma omp atomic
+          ++balanced[i];
+        });
+      schedule.for_active_nodes([&](std::int64_t k) { ++slots[static_cast<std::size_t>(k)]; });
+      const auto n = static_cast<std::ptrdiff_t>(x.size());
+      EXPECT_EQ(std::count(scattered.begin(), scattered.end(), 1), n) << cut_for << " / " << team;
+      EXPECT_EQ(std::count(passed.begin(), passed.end(), 1), n) << cut_for << " / " << team;
+      EXPECT_EQ(std::count(balanced.begin(), balanced.end(), 2), n) << cut_for << " / " << team;
+      const auto active = static_cast<std::ptrdiff_t>(schedule.active_tiles().size()) * Grid<2>::kTileNodes;
+      EXPECT_EQ(std::count(slots.begin(), slots.end(), 1), active) << cut_for << " / " << team;
+      EXPECT_EQ(std::count(slots.begin(), slots.end(), 0), static_cast<std::ptrdiff_t>(g.size()) - active);
+    }
+  }
+  omp_set_num_threads(max_threads);
 }
 
 TEST(BlockSchedule, ColoursAndActiveTilesFollowTheReach) {

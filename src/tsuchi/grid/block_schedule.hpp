@@ -126,7 +126,7 @@ class BlockSchedule {
     for_each_particle_in_region(f);
   }
 
-  // The non-empty blocks of each colour, in the order scatter() takes them (for checks).
+  // The non-empty blocks of each colour, in increasing index (a thread takes a run of each; for checks).
   const std::vector<std::vector<std::int32_t>>& colour_blocks() const { return colour_blocks_; }
 
   // Particle indices in block order: the order a locality-improving reordering would follow.

@@ -161,10 +161,10 @@ class BlockSchedule {
   }
 
  private:
-  // A thread's part of the grid: the blocks whose index lies in [bounds_[t], bounds_[t + 1]),
-  // cut where the particle count reaches t / threads of the whole (block indices run along x,
-  // then y, then z, so a part is a slab); as positions in each colour's list (sorted by block
-  // index) and in active_tiles_.
+  // A thread's part of the grid: a run of blocks in index order, cut where the particle count
+  // reaches t / threads of the whole (block indices run along x, then y, then z, so a part is a
+  // slab; partition()); kept as positions in each colour's list (colour_cut_), in
+  // blocks_in_order_ (block_cut_) and in active_tiles_ (tile_cut_).
   // A region of another thread count than the parts were cut for (a nested one) splits each
   // list evenly instead: blocks of one colour write disjoint nodes, so any split gives the same sums.
   struct Part {

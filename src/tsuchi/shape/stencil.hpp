@@ -57,9 +57,9 @@ struct Stencil {
   Eigen::Array<double, D, 1> xi;  // (x_p - origin) / h
 
   // What the stencil is made of, per axis: the weights and derivatives (zero off the grid's
-  // edge), the first node and (x_p - origin) / h. A step keeps these per particle (168 bytes in 2D,
-  // 252 in 3D; solver/explicit_step.cpp) and every stage assembles its stencil from them,
-  // which costs a few table reads and, in 3D, the 27 row products, not the kernel again.
+  // edge), the nodes' index terms, the first node and (x_p - origin) / h. A step keeps these per
+  // particle (168 bytes in 2D, 252 in 3D; solver/explicit_step.cpp) and every stage assembles its
+  // stencil from them, which costs copies and, in 3D, the 27 row products, not the kernel again.
   struct Axes {
     std::array<std::array<double, K>, D> w, dw;
     std::array<std::array<std::int64_t, K>, D> off;  // index terms per axis

@@ -251,8 +251,7 @@ void ExplicitSolver<D>::p2g() {
     double* const m_g = n.m.data();
     Vec<D>* const p_g = n.p.data();
     Vec<D>* const f_g = n.f.data();
-    Stencil<D, Kernel> st;
-    st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
+    Stencil<D, Kernel> st = stencil_of<Kernel>(i);
     const double m = p.m_p[i];
     Mat3 s = to_matrix<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i]));
     if constexpr (force)
@@ -319,8 +318,7 @@ void ExplicitSolver<D>::scatter_mass_gradient() {
   };
   schedule_.scatter([&](std::size_t i) {
     Vec<D>* const gm = contact_.mass_gradient(field_of(i)).data();
-    Stencil<D, Kernel> st;
-    st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
+    Stencil<D, Kernel> st = stencil_of<Kernel>(i);
     const double m = p.m_p[i];
     st.scatter(
         [&](double T, const std::array<double, D - 1>& dT) {
@@ -515,8 +513,7 @@ void ExplicitSolver<D>::g2p_flip(double dt) {
     const Vec<D>* const a_g = n.a.data();  // local addresses: see p2g
     const Vec<D>* const vL_g = n.vL.data();
     Vec<D>* const p_g = n.p.data();
-    Stencil<D, Kernel> st;
-    st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
+    Stencil<D, Kernel> st = stencil_of<Kernel>(i);
     Vec<D> a = Vec<D>::Zero(), vL = Vec<D>::Zero();
     st.gather(
         zero,
@@ -561,8 +558,7 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
     auto& n = g.fields[static_cast<std::size_t>(field_of(i))];
     const Vec<D>* const vL_g = n.vL.data();  // local addresses: see p2g
     Vec<D>* const p_g = n.p.data();
-    Stencil<D, Kernel> st;
-    st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
+    Stencil<D, Kernel> st = stencil_of<Kernel>(i);
     st.compute_offsets(g.h);
     Vec<D> vL = Vec<D>::Zero();
     Mat<D> B = Mat<D>::Zero(), Dp = Mat<D>::Zero();
@@ -651,8 +647,7 @@ void ExplicitSolver<D>::average_volumetric_strain(double dt, FieldArray v_strain
     if (rigid_field_[static_cast<std::size_t>(field_of(i))]) return;  // takes no remedy (update_stress)
     const std::size_t field = static_cast<std::size_t>(field_of(i));
     const Vec<D>* const v_g = (g.fields[field].*v_strain).data();
-    Stencil<D, Kernel> st;
-    st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
+    Stencil<D, Kernel> st = stencil_of<Kernel>(i);
     double div = 0.0;  // tr L = sum_i G_i . v_i
     st.gather(
         zero,
@@ -695,8 +690,7 @@ bool ExplicitSolver<D>::average_pressure() {
   schedule_.scatter([&](std::size_t i) {
     if (!takes_averaged_pressure(i)) return;
     const int field = field_of(i);
-    Stencil<D, Kernel> st;
-    st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
+    Stencil<D, Kernel> st = stencil_of<Kernel>(i);
     const double V = p.V_p[i];
     pressure_average_.add(st, field, p.material_p[i], V, V * trace<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i])) / 3.0);
   });
@@ -753,8 +747,7 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
             const auto& n = g.fields[field];
             const Vec<D>* const v_g = (n.*v_strain).data();  // local addresses: see p2g
             const Vec<D>* const vL_g = n.vL.data();
-            Stencil<D, Kernel> st;
-            st.assemble(stencils<Kernel>()[i]);  // this step's factors (compute_stencils)
+            Stencil<D, Kernel> st = stencil_of<Kernel>(i);
             // L = sum v G^T, column j = sum v G_j; along x first, then the row factors.
             Mat<D> L = Mat<D>::Zero();
             Vec<D> vL = Vec<D>::Zero();

@@ -112,6 +112,12 @@ class ExplicitSolver {
   // Body fields first_field_..last_field_: 0..0 without contact between bodies.
   bool contact_on() const { return m_.contact.active(); }
   template <class Kernel> void compute_stencils();
+  // Particle i's stencil from this step's factors (compute_stencils), for the stages.
+  template <class Kernel> [[gnu::always_inline]] Stencil<D, Kernel> stencil_of(std::size_t i) {
+    Stencil<D, Kernel> st;
+    st.assemble(stencils<Kernel>()[i]);
+    return st;
+  }
   template <class Kernel> std::vector<typename Stencil<D, Kernel>::Axes>& stencils() {
     if constexpr (std::is_same_v<Kernel, shape::GimpKernel>) return gimp_stencils_;
     else return linear_stencils_;

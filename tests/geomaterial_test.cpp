@@ -105,7 +105,24 @@ TEST(Geomaterial, K0ProfileFollowsDepth) {
     ASSERT_NEAR(sig[0], 0.5 * sv, 1e-9 * std::abs(sv));
     ASSERT_NEAR(sig[2], 0.5 * sv, 1e-9 * std::abs(sv));
     ASSERT_EQ(sig[3], 0.0);
-    ASSERT_EQ(m.particles.sigma0_p[i].norm(), 0.0);  // not subtracted: gravity carries it
+  }
+  // Not subtracted (gravity carries it): the model holds no sigma0 at all, and the internal force
+  // acts with the whole stress.
+  EXPECT_FALSE(m.particles.initial_stress);
+  EXPECT_TRUE(m.particles.sigma0_p.empty());
+  for (std::size_t i = 0; i < m.particles.size(); ++i)
+    ASSERT_EQ(m.particles.stress_above_initial(i), m.particles.sigma_p[i]);
+}
+
+// With the subtraction, every particle holds sigma0 = its starting stress, and eq (2) starts from
+// zero: sigma - sigma0 = 0.
+TEST(Geomaterial, SubtractedInitialStressIsHeldPerParticle) {
+  const Model<2> m = build_model<2>(config(kBlock));
+  ASSERT_TRUE(m.particles.initial_stress);
+  ASSERT_EQ(m.particles.sigma0_p.size(), m.particles.size());
+  for (std::size_t i = 0; i < m.particles.size(); ++i) {
+    ASSERT_EQ(m.particles.sigma0_p[i][0], -100.0e3);
+    ASSERT_EQ(m.particles.stress_above_initial(i).norm(), 0.0);
   }
 }
 

@@ -256,12 +256,17 @@ TEST_F(RefusedRestart, AllowedChangesAreAccepted) {
   EXPECT_EQ(r.status, exit_code::ok) << r.output;
 }
 
-// The decoder itself: a checkpoint round-trips every particle array exactly (with APIC, so that
-// the affine matrix p.C is among them).
+// The decoder itself: a checkpoint round-trips every particle array exactly (with APIC, an
+// initial stress held by eq (2) and a Mohr-Coulomb material, so that the affine matrix p.C, sigma0
+// and Mohr-Coulomb's state columns are among them).
 TEST(Checkpoint, RoundTripsEveryParticleArray) {
   TempDir tmp("tsuchi_checkpoint");
   std::string input = elastic_input;
   input.replace(input.find("[solver]\n"), 9, "[solver]\nvelocity_transfer = \"apic\"\n");
+  input.replace(input.find("model = \"linear_elastic\"\n"), 24,
+                "model = \"mohr_coulomb\"\ncohesion = 5e3\nfriction_angle = 30.0\n");
+  input.replace(input.find("velocity = [0.3, 0.0]\n"), 22,
+                "velocity = [0.3, 0.0]\ninitial_stress = { isotropic = -1e3, subtract = true }\n");
   Model<2> m = build_model<2>(read_config_string(input, "column.toml"));
   ASSERT_EQ(m.particles.C_p.size(), m.particles.size());
   for (std::size_t i = 0; i < m.particles.size(); ++i) {
@@ -295,8 +300,10 @@ TEST(Checkpoint, RoundTripsEveryParticleArray) {
         }
     });
   });
-  // 13 kinematic and stress arrays, and one column per state field of the registered models.
-  EXPECT_EQ(arrays, 13u + material_state_fields().size());
+  // 13 kinematic and stress arrays (with C and sigma0), and one column per state field of
+  // Mohr-Coulomb, the model's only constitutive model.
+  EXPECT_EQ(arrays, 13u + MohrCoulomb::state_fields.size());
+  EXPECT_EQ(fresh.particles.state_columns_held(), MohrCoulomb::state_fields.size());
 }
 
 // Faults stop the step with their own kind and name the particle, its body and position.

@@ -157,7 +157,7 @@ void check_particles(const Particles<D>& p, const Model<D>& model, const Decoder
   std::vector<bool> seen(static_cast<std::size_t>(ids), false);
   std::vector<std::size_t> flags;  // state columns of flag fields (written to frames as bytes)
   for (std::size_t k = 0; k < material_state_fields().size(); ++k)
-    if (material_state_fields()[k].flag) flags.push_back(k);
+    if (material_state_fields()[k].flag && p.state_held[k]) flags.push_back(k);
   for (std::size_t i = 0; i < n; ++i) {
     if (p.body_p[i] < 0 || p.body_p[i] >= nbodies) in.fail(fmt::format("particle {} names body {}", i, p.body_p[i]));
     if (p.material_p[i] < 0 || p.material_p[i] >= nmat)
@@ -304,8 +304,9 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
   Particles<D> p;
   // A copy: clang before 16 cannot capture a structured binding in a lambda.
   const auto particle_count = static_cast<std::size_t>(count);
-  declare_state_columns(p);
-  p.affine = model.particles.affine;  // p.C is in the file exactly when the input asks for APIC
+  // The file holds the optional arrays (APIC's C, sigma0, state columns) exactly when the input's
+  // model does.
+  p.same_arrays_as(model.particles);
   p.for_each_array([&](const char* name, auto& a) { in.array(fmt::format("p.{}", name), a, particle_count); });
   check_particles(p, model, in);
   r.output.global_bytes = in.scalar<std::uint64_t>("global_csv_bytes");

@@ -208,12 +208,11 @@ double available_memory() {
 // has free: a bad_alloc hours into a set-up, or the OOM killer, says nothing about the cause. The
 // particles are counted on the lattice over each shape's bounds: an upper bound.
 template <int D>
-void check_memory(const Config& c, const Grid<D>& g) {
+void check_memory(const Config& c, const Grid<D>& g, const Particles<D>& layout) {
   double particles = 0.0;
   for (const auto& b : c.bodies)
     particles += b.shape ? lattice<D>(b, g).total : static_cast<double>(b.particles->x.size());
-  const bool affine = c.solver.velocity_transfer == VelocityTransfer::Apic;
-  double bytes = memory_estimate<D>(static_cast<double>(g.size()), particles, affine);
+  double bytes = memory_estimate<D>(static_cast<double>(g.size()), particles, layout);
   // Contact between bodies adds a velocity field per body of a frictional or rough pair (at most,
   // plus one shared), each with its mass gradient and node-averaged volumetric strain.
   std::vector<int> in_pairs;
@@ -435,8 +434,10 @@ Model<D> build_model(const Config& c) {
   for (const auto& b : c.bodies) m.body_names.push_back(b.name);
   m.step.set_from(c);
   if (c.gravity_function >= 0) m.step.gravity_function = c.functions[static_cast<std::size_t>(c.gravity_function)].f;
-  declare_state_columns(m.particles);
+  declare_state_columns(m.particles, c.materials);
   m.particles.affine = c.solver.velocity_transfer == VelocityTransfer::Apic;
+  m.particles.initial_stress =
+      std::any_of(c.bodies.begin(), c.bodies.end(), [](const BodyConfig& b) { return b.initial_stress.subtract; });
   for (int d = 0; d < D; ++d) {
     m.grid.origin[d] = c.grid.origin[d];
     m.grid.n_nodes[d] = c.grid.cells[d] + 1;
@@ -454,7 +455,7 @@ Model<D> build_model(const Config& c) {
   }();
   if (nodes > 2e9)
     throw InputError(fmt::format("{}: the grid has {:.3g} nodes; at most 2e9 are supported", c.source, nodes));
-  check_memory<D>(c, m.grid);
+  check_memory<D>(c, m.grid, m.particles);
   m.grid.allocate();
   set_boundary_conditions(c, m.grid, m.node_sets, m.held_nodes);
   const std::vector<Placement<D>> placed = place_bodies<D>(c, m.grid);

@@ -68,11 +68,11 @@ struct Model {
 // (Model::bytes) and the step's stencil factors per particle (Stencil::Axes), plus the block
 // schedule and reordering scratch (peak RSS measured at 1.19 times the model for 1e6 particles,
 // BENCHMARKS.md), plus 32 MB for the program.
+// `layout` is the model's particles before any is added: which optional arrays they hold.
 template <int D>
-double memory_estimate(double grid_slots, double particles, bool affine) {
+double memory_estimate(double grid_slots, double particles, const Particles<D>& layout) {
   const double per_particle =
-      static_cast<double>(Particles<D>::bytes_per_particle(material_state_fields().size(), affine) +
-                          sizeof(typename Stencil<D, shape::GimpKernel>::Axes));
+      static_cast<double>(layout.bytes_per_particle() + sizeof(typename Stencil<D, shape::GimpKernel>::Axes));
   const double model = grid_slots * Grid<D>::bytes_per_slot() + particles * per_particle;
   return 1.25 * model + 32e6;
 }

@@ -73,8 +73,8 @@ double field_value(const ParticleField& f, const Particles<D>& p, std::size_t i,
     case Quantity::Density: return p.m_p[i] / p.V_p[i];
     case Quantity::MaterialIndex: return p.material_p[i];
     case Quantity::BodyIndex: return p.body_p[i];
-    case Quantity::State: return p.state[static_cast<std::size_t>(f.state)][i];
-    case Quantity::StateIndicator: return p.state[static_cast<std::size_t>(f.state)][i] != 0.0 ? 1.0 : 0.0;
+    case Quantity::State: return p.state_value(static_cast<std::size_t>(f.state), i);
+    case Quantity::StateIndicator: return p.state_value(static_cast<std::size_t>(f.state), i) != 0.0 ? 1.0 : 0.0;
   }
   return 0.0;
 }

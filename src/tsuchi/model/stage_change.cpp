@@ -14,10 +14,7 @@ namespace tsuchi {
 
 template <int D>
 void move_bodies(Particles<D>& from, Particles<D>& to, const std::vector<std::int32_t>& bodies) {
-  if (to.size() == 0 && to.state_name.empty()) {
-    to.set_state_columns(from.state_name, from.state_initial);
-    to.affine = from.affine;
-  }
+  if (to.size() == 0 && to.state_name.empty()) to.same_arrays_as(from);
   std::vector<std::size_t> keep, move;
   for (std::size_t i = 0; i < from.size(); ++i)
     (std::find(bodies.begin(), bodies.end(), from.body_p[i]) != bodies.end() ? move : keep).push_back(i);

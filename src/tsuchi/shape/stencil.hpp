@@ -53,44 +53,50 @@ struct Stencil {
   // compute_offsets(): x_i - x_p along x for node a, and along the other axes for row r (m).
   std::array<double, K> rx;
   std::array<std::array<double, D - 1>, R> ry;
-  Eigen::Array<int, D, 1> node0;  // first node index per axis, unclamped
+  Eigen::Array<int, D, 1> node0;  // first node index per axis (Axes::node0)
   Eigen::Array<double, D, 1> xi;  // (x_p - origin) / h
 
   // What the stencil is made of, per axis: the weights and derivatives (zero off the grid's
-  // edge), the nodes' index terms, the first node and (x_p - origin) / h. A step keeps these per
-  // particle (168 bytes in 2D, 252 in 3D; solver/explicit_step.cpp) and every stage assembles its
+  // edge), (x_p - origin) / h and the first node. A step keeps these per
+  // particle (120 bytes in 2D, 184 in 3D; solver/explicit_step.cpp) and every stage assembles its
   // stencil from them, which costs copies and, in 3D, the 27 row products, not the kernel again.
   struct Axes {
     std::array<std::array<double, K>, D> w, dw;
-    std::array<std::array<std::int64_t, K>, D> off;  // index terms per axis
-    Eigen::Array<int, D, 1> node0;  // first node index per axis, unclamped
     Eigen::Array<double, D, 1> xi;
+    // First node index per axis, clamped to the range the grid's edge tables hold: the kernel's
+    // own for every particle inside the grid; for one outside, about to be reported, it keeps the
+    // table reads of the stages inside the tables.
+    Eigen::Array<int, D, 1> node0;
   };
 
   [[gnu::always_inline]] static inline void axes(const Grid<D>& grid, const Vec<D>& x, const Vec<D>& lp, Axes& out) {
     using A = Eigen::Array<double, D, 1>;
     std::array<A, K> wa, dwa;
     out.xi = (x - grid.origin).array() * grid.inv_h;
-    out.node0 = Kernel::template weights<D>(out.xi, grid.inv_h, lp.array(), wa, dwa);
+    const Eigen::Array<int, D, 1> node0 = Kernel::template weights<D>(out.xi, grid.inv_h, lp.array(), wa, dwa);
     for (int d = 0; d < D; ++d) {
-      const std::size_t first = first_entry(grid, d, out.node0[d]);
+      const std::size_t first = first_entry(grid, d, node0[d]);
+      out.node0[d] = static_cast<int>(first) - Grid<D>::kEdge;
       const double* inside = grid.axis_inside[d].data() + first;
-      const std::int64_t* term = grid.axis_term[d].data() + first;
       for (int k = 0; k < K; ++k) {
         out.w[d][k] = wa[k][d] * inside[k];
         out.dw[d][k] = dwa[k][d] * inside[k];
-        out.off[d][k] = term[k];
       }
     }
   }
 
-  // The row form below from the per-axis factors.
-  [[gnu::always_inline]] inline void assemble(const Axes& a) {
+  // The row form below from the per-axis factors; the nodes' index terms come from the grid's
+  // tables (a few reads of lines every particle shares, cheaper than storing them per particle).
+  [[gnu::always_inline]] inline void assemble(const Grid<D>& grid, const Axes& a) {
     node0 = a.node0;
     xi = a.xi;
     const auto& w = a.w;
     const auto& dw = a.dw;
-    const auto& off = a.off;
+    std::array<std::array<std::int64_t, K>, D> off;
+    for (int d = 0; d < D; ++d) {
+      const std::int64_t* term = grid.axis_term[d].data() + (node0[d] + Grid<D>::kEdge);
+      for (int k = 0; k < K; ++k) off[d][k] = term[k];
+    }
     wx = w[0], dwx = dw[0], offx = off[0];
     if constexpr (D == 2) {
       for (int b = 0; b < K; ++b) T[b] = w[1][b], dT[b][0] = dw[1][b], row[b] = off[1][b];
@@ -109,7 +115,7 @@ struct Stencil {
   [[gnu::always_inline]] inline void compute(const Grid<D>& grid, const Vec<D>& x, const Vec<D>& lp) {
     Axes a;
     axes(grid, x, lp, a);
-    assemble(a);
+    assemble(grid, a);
   }
 
   // The nodes' offsets from the particle, x_i - x_p = h (i - xi), for the functions that take them.

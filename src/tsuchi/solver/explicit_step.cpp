@@ -253,7 +253,7 @@ void ExplicitSolver<D>::p2g() {
     Vec<D>* const f_g = n.f.data();
     Stencil<D, Kernel> st = stencil_of<Kernel>(i);
     const double m = p.m_p[i];
-    Mat3 s = to_matrix<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i]));
+    Mat3 s = to_matrix<D>(p.stress_above_initial(i));
     if constexpr (force)
       if (smooth_pressure) {
         if (takes_averaged_pressure(i))
@@ -692,7 +692,7 @@ bool ExplicitSolver<D>::average_pressure() {
     const int field = field_of(i);
     Stencil<D, Kernel> st = stencil_of<Kernel>(i);
     const double V = p.V_p[i];
-    pressure_average_.add(st, field, p.material_p[i], V, V * trace<D>(Voigt<D>(p.sigma_p[i] - p.sigma0_p[i])) / 3.0);
+    pressure_average_.add(st, field, p.material_p[i], V, V * trace<D>(p.stress_above_initial(i)) / 3.0);
   });
   pressure_average_.finish(schedule_);
   return true;

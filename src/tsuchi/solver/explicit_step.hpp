@@ -115,7 +115,7 @@ class ExplicitSolver {
   // Particle i's stencil from this step's factors (compute_stencils), for the stages.
   template <class Kernel> [[gnu::always_inline]] Stencil<D, Kernel> stencil_of(std::size_t i) {
     Stencil<D, Kernel> st;
-    st.assemble(stencils<Kernel>()[i]);
+    st.assemble(m_.grid, stencils<Kernel>()[i]);
     return st;
   }
   template <class Kernel> std::vector<typename Stencil<D, Kernel>::Axes>& stencils() {

@@ -33,7 +33,7 @@ GlobalQuantities<D> global_quantities(const Model<D>& m) {
     q.mass += p.m_p[i];
     q.momentum += p.m_p[i] * p.v_p[i];
     q.gravity_potential -= p.m_p[i] * b.dot(p.x_p[i] - m.grid.origin);
-    const Voigt<D> s = p.sigma_p[i] - p.sigma0_p[i];
+    const Voigt<D> s = p.stress_above_initial(i);
     q.strain_energy += p.V_p[i] * stiffness_of(m.materials[static_cast<std::size_t>(p.material_p[i])], p, i).template energy_density<D>(s);
   }
   q.kinetic_energy = kinetic_energy(p);  // its own sum, in the same order as in the loop before

@@ -21,11 +21,10 @@
 
 namespace tsuchi {
 
-// A gather's running sums, of w Q_i and of w [i]. At namespace scope: clang 14 cannot instantiate
-// a local struct of a lambda in a template.
-struct NodalAverageSums {
-  double q, w;
-};
+// A node's pair (sum of S V q, sum of S V), and after finish() (Q_i, [i]); also a gather's running
+// sums of w Q_i and w [i]. One pair per node: a scatter or gather touches one cache line per node,
+// and both entries take one vector operation.
+using NodalAveragePair = Eigen::Vector2d;
 
 template <int D>
 class NodalAverage {
@@ -42,51 +41,40 @@ class NodalAverage {
       if (averaged(mat)) slot_[mat] = slots_++;
     const std::size_t slots = size_ * static_cast<std::size_t>(last + 1) * slots_;
     sum_.resize(slots);
-    weight_.resize(slots);
     first_ = first;
     last_ = last;
-    for_fields(schedule, [](double& s, double& w) { s = 0.0, w = 0.0; });
+    for_fields(schedule, [](NodalAveragePair& a) { a.setZero(); });
   }
 
   // Particle p's share, V_p q_p (Vq, formed by the caller) and V_p, spread by its stencil; called
   // inside a coloured scatter, so no two threads add to one node at once.
   template <class Kernel>
   [[gnu::always_inline]] inline void add(const Stencil<D, Kernel>& st, int field, int material, double V, double Vq) {
-    double* const s_g = sum_.data() + offset(field, material);
-    double* const w_g = weight_.data() + offset(field, material);
+    NodalAveragePair* const a_g = sum_.data() + offset(field, material);
+    const NodalAveragePair share(Vq, V);
     st.scatter([&](double T, const std::array<double, D - 1>&) { return T; },
-               [&](std::int64_t k, double w, double, double T) {
-                 s_g[k] += (w * T) * Vq;
-                 w_g[k] += (w * T) * V;
-               });
+               [&](std::int64_t k, double w, double, double T) { a_g[k] += (w * T) * share; });
   }
 
   // Q_i once per node, and the weight becomes [i]: the gathers then need no division or test per
   // node.
   void finish(const BlockSchedule<D>& schedule) {
-    for_fields(schedule, [](double& s, double& w) {
-      if (w > 0.0) s /= w, w = 1.0;
-      else s = 0.0, w = 0.0;
+    for_fields(schedule, [](NodalAveragePair& a) {
+      if (a[1] > 0.0) a[0] /= a[1], a[1] = 1.0;
+      else a.setZero();
     });
   }
 
   // q_bar_p of the particle with stencil st in body field `field`, of material `material`.
   template <class Kernel>
   [[gnu::always_inline]] inline double gather(const Stencil<D, Kernel>& st, int field, int material) const {
-    const double* const s_g = sum_.data() + offset(field, material);
-    const double* const w_g = weight_.data() + offset(field, material);
-    NodalAverageSums total{0.0, 0.0};
+    const NodalAveragePair* const a_g = sum_.data() + offset(field, material);
+    NodalAveragePair total = NodalAveragePair::Zero();
     st.gather(
-        NodalAverageSums{0.0, 0.0},
-        [&](NodalAverageSums& row, std::int64_t k, double w, double) {
-          row.q += w * s_g[k];
-          row.w += w * w_g[k];
-        },
-        [&](const NodalAverageSums& row, double T, const std::array<double, D - 1>&) {
-          total.q += T * row.q;
-          total.w += T * row.w;
-        });
-    return total.w > 0.0 ? total.q / total.w : 0.0;
+        NodalAveragePair::Zero().eval(),
+        [&](NodalAveragePair& row, std::int64_t k, double w, double) { row += w * a_g[k]; },
+        [&](const NodalAveragePair& row, double T, const std::array<double, D - 1>&) { total += T * row; });
+    return total[1] > 0.0 ? total[0] / total[1] : 0.0;
   }
 
  private:
@@ -101,13 +89,11 @@ class NodalAverage {
     for (int field = first_; field <= last_; ++field)
       for (std::size_t slot = 0; slot < slots_; ++slot) {
         const std::size_t o = slot_offset(field, slot);
-        schedule.for_active_nodes([&](std::int64_t k) {
-          f(sum_[o + static_cast<std::size_t>(k)], weight_[o + static_cast<std::size_t>(k)]);
-        });
+        schedule.for_active_nodes([&](std::int64_t k) { f(sum_[o + static_cast<std::size_t>(k)]); });
       }
   }
 
-  std::vector<double> sum_, weight_;
+  std::vector<NodalAveragePair> sum_;  // per field, slot and node
   std::vector<std::size_t> slot_;  // material -> its sums' slot; meaningful where averaged
   std::size_t size_ = 0, slots_ = 0;
   int first_ = 0, last_ = 0;

@@ -548,12 +548,13 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
   auto& g = m_.grid;
   auto& p = m_.particles;
   const double tiny = 1e-12 * g.h * g.h;
-  // Sums along x of w v^L, w rx v^L, w, w rx, w rx^2; the row factors T, ry then give v_p, B_p, D_p.
+  // Sums along x of w v^L and w rx v^L; with the sums of w, w rx, w rx^2 (the same for every row:
+  // they hold the stencil's own factors only, so they are formed once) the row factors T, ry then
+  // give v_p, B_p, D_p.
   struct Sums {
     Vec<D> v, v_rx;
-    double w, w_rx, w_rx2;
   };
-  const Sums zero{Vec<D>::Zero(), Vec<D>::Zero(), 0.0, 0.0, 0.0};
+  const Sums zero{Vec<D>::Zero(), Vec<D>::Zero()};
   const auto particle = [&](std::size_t i) {
     auto& n = g.fields[static_cast<std::size_t>(field_of(i))];
     const Vec<D>* const vL_g = n.vL.data();  // local addresses: see p2g
@@ -562,25 +563,28 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
     st.compute_offsets(g.h);
     Vec<D> vL = Vec<D>::Zero();
     Mat<D> B = Mat<D>::Zero(), Dp = Mat<D>::Zero();
+    double sum_w = 0.0, sum_w_rx = 0.0, sum_w_rx2 = 0.0;
+    for (int a = 0; a < st.K; ++a) {
+      const double wrx = st.wx[a] * st.rx[a];
+      sum_w += st.wx[a];
+      sum_w_rx += wrx;
+      sum_w_rx2 += wrx * st.rx[a];
+    }
     st.gather(
         zero,
-        [&](Sums& row, std::int64_t k, double w, double, double rx) {
-          const double wrx = w * rx;
-          row.v += w * vL_g[k];
-          row.v_rx += wrx * vL_g[k];
-          row.w += w;
-          row.w_rx += wrx;
-          row.w_rx2 += wrx * rx;
+        [&](Sums& row, std::int64_t k, double wa, double, double rx) {
+          row.v += wa * vL_g[k];
+          row.v_rx += (wa * rx) * vL_g[k];
         },
         [&](const Sums& row, double T, const std::array<double, D - 1>&, const std::array<double, D - 1>& ry) {
           vL += T * row.v;
           B.col(0) += T * row.v_rx;
-          Dp(0, 0) += T * row.w_rx2;
+          Dp(0, 0) += T * sum_w_rx2;
           for (int d = 1; d < D; ++d) {
             const double Ty = T * ry[d - 1];
             B.col(d) += Ty * row.v;
-            Dp(0, d) += Ty * row.w_rx;
-            for (int e = 1; e < D; ++e) Dp(d, e) += Ty * ry[e - 1] * row.w;
+            Dp(0, d) += Ty * sum_w_rx;
+            for (int e = 1; e < D; ++e) Dp(d, e) += Ty * ry[e - 1] * sum_w;
           }
         });
     for (int d = 1; d < D; ++d) Dp(d, 0) = Dp(0, d);

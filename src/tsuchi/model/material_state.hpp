@@ -35,18 +35,10 @@ std::array<double*, M::state_fields.size()> state_columns(const Particles<D>& p)
   return state_columns<M>(const_cast<Particles<D>&>(p));
 }
 
-// The registry's state columns for a new set of particles, every one held.
-template <int D>
-void declare_state_columns(Particles<D>& p) {
-  std::vector<std::string> names;
-  std::vector<double> initial;
-  for (const StateField& f : material_state_fields()) names.emplace_back(f.name), initial.push_back(f.initial);
-  p.set_state_columns(std::move(names), std::move(initial));
-}
-
-// The same, holding only the columns of the fields some model of `materials` has (a model of
-// Mohr-Coulomb soil and an elastic cap holds Mohr-Coulomb's five, not Cam-Clay's): a stage may
-// give a body another of the run's materials, never a material the run does not declare.
+// The registry's state columns for a new set of particles, holding only the columns of the fields
+// some model of `materials` has (a model of Mohr-Coulomb soil and an elastic cap holds
+// Mohr-Coulomb's five, not Cam-Clay's): a stage may give a body another of the run's materials,
+// never a material the run does not declare.
 template <int D>
 void declare_state_columns(Particles<D>& p, const std::vector<Material>& materials) {
   std::vector<std::string> names;

@@ -45,12 +45,12 @@ struct Particles {
 
   std::size_t size() const { return x_p.size(); }
 
-  // Declares the state columns, before any particle is added; `held` (one entry per name, empty:
-  // all) says which are stored.
-  void set_state_columns(std::vector<std::string> names, std::vector<double> initial, std::vector<char> held = {}) {
+  // Declares the state columns, before any particle is added; `held` (one entry per name) says
+  // which are stored.
+  void set_state_columns(std::vector<std::string> names, std::vector<double> initial, std::vector<char> held) {
     state_name = std::move(names);
     state_initial = std::move(initial);
-    state_held = held.empty() ? std::vector<char>(state_name.size(), 1) : std::move(held);
+    state_held = std::move(held);
     state.clear();
     for (std::size_t k = 0; k < state_initial.size(); ++k)
       state.emplace_back(state_held[k] ? size() : 0, state_initial[k]);

@@ -104,12 +104,14 @@ struct Stencil {
       for (int k = 0; k < K; ++k) off[d][k] = term[k];
     }
     wx = w[0], dwx = dw[0], offx = off[0];
-    // A node of axis d > 0 counts when its weight or derivative is nonzero.
-    const auto counts = [&](int d, int k) { return w[d][k] != 0.0 || dw[d][k] != 0.0; };
     live_rows = 0;
     if constexpr (D == 2) {
       for (int b = 0; b < K; ++b) T[b] = w[1][b], dT[b][0] = dw[1][b], row[b] = off[1][b];
     } else {
+      // A node of axis d > 0 counts when its weight or derivative is nonzero; per axis, once.
+      std::array<std::array<bool, K>, D> counts;
+      for (int d = 1; d < D; ++d)
+        for (int k = 0; k < K; ++k) counts[d][k] = w[d][k] != 0.0 || dw[d][k] != 0.0;
       for (int c = 0; c < K; ++c)
         for (int b = 0; b < K; ++b) {
           const int r = b + K * c;
@@ -117,7 +119,7 @@ struct Stencil {
           dT[r][0] = dw[1][b] * w[2][c];
           dT[r][1] = w[1][b] * dw[2][c];
           row[r] = off[1][b] + off[2][c];
-          if (counts(1, b) && counts(2, c)) live[live_rows++] = static_cast<std::uint8_t>(r);
+          if (counts[1][b] && counts[2][c]) live[live_rows++] = static_cast<std::uint8_t>(r);
         }
     }
   }

@@ -454,7 +454,11 @@ traction = [2.0e3, -1.0e4]
     auto& n = m.grid.field(0);
     std::fill(n.f.begin(), n.f.end(), Vec<2>::Zero());
     const std::vector<int> field_of_body(1, 0);
-    stage.apply<shape::GimpKernel>(m.loads, m.grid, m.particles, schedule, 0.0, m.grid.fields, field_of_body, 0, 0);
+    std::vector<Stencil<2, shape::GimpKernel>::Axes> stencils(m.particles.size());
+    for (std::size_t i = 0; i < stencils.size(); ++i)
+      Stencil<2, shape::GimpKernel>::axes(m.grid, m.particles.x_p[i], m.particles.l_p[i], stencils[i]);
+    stage.apply<shape::GimpKernel>(m.loads, m.grid, m.particles, stencils, schedule, 0.0, m.grid.fields, field_of_body,
+                                   0, 0);
     return n.f;
   };
   const auto before = forces();

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <cstring>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -109,30 +108,39 @@ struct Particles {
   }
 
   // Reorders every array: particle k of the result is particle order[k] of this one. Ids move
-  // with their particles, so outputs keyed by id are unchanged. `scratch` keeps its storage between
-  // calls, so a periodic reordering allocates only the first time.
-  // Scratch storage in 64-byte lines: aligned for any element type, as vectorised loads of Eigen
-  // types require (32 bytes with AVX).
-  struct alignas(64) ScratchLine {
-    unsigned char bytes[64];
-  };
-  using Scratch = std::vector<ScratchLine>;
+  // with their particles, so outputs keyed by id are unchanged. In place, cycle by cycle: the only
+  // storage it takes is one byte per particle (`moved`, kept between calls, so a periodic
+  // reordering allocates only the first time), not a copy of the largest array (72 bytes per
+  // particle in 3D), which set the peak memory of a large run. The periodic sort moves few
+  // particles (most stay in their block between sorts), and a fixed point costs one comparison.
+  using Scratch = std::vector<std::uint8_t>;
 
   template <class Index>
-  void permute(const std::vector<Index>& order, Scratch& scratch) {
+  void permute(const std::vector<Index>& order, Scratch& moved) {
+    const std::size_t n = order.size();
     for_each_array([&](const char*, auto& a) {
-      using T = typename std::decay_t<decltype(a)>::value_type;
-      const std::size_t lines = (a.size() * sizeof(T) + sizeof(ScratchLine) - 1) / sizeof(ScratchLine);
-      scratch.resize(std::max(scratch.size(), lines));
-      std::memcpy(static_cast<void*>(scratch.data()), static_cast<const void*>(a.data()), a.size() * sizeof(T));
-      const auto* copy = reinterpret_cast<const T*>(scratch.data());
-      for (std::size_t k = 0; k < order.size(); ++k) a[k] = copy[static_cast<std::size_t>(order[k])];
+      moved.assign(n, 0);
+      for (std::size_t s = 0; s < n; ++s) {
+        if (moved[s] || static_cast<std::size_t>(order[s]) == s) continue;
+        // The cycle s <- order[s] <- order[order[s]] ... <- s: each slot takes its source's
+        // element, the last one the element first held at s.
+        auto first = std::move(a[s]);
+        std::size_t k = s;
+        for (;;) {
+          moved[k] = 1;
+          const auto from = static_cast<std::size_t>(order[k]);
+          if (from == s) break;
+          a[k] = std::move(a[from]);
+          k = from;
+        }
+        a[k] = std::move(first);
+      }
     });
   }
   template <class Index>
   void permute(const std::vector<Index>& order) {
-    Scratch scratch;
-    permute(order, scratch);
+    Scratch moved;
+    permute(order, moved);
   }
 
   static constexpr std::size_t bytes_per_particle(std::size_t state_columns, bool with_affine, bool with_initial_stress) {

@@ -125,30 +125,27 @@ void ExplicitSolver<D>::step_with(double dt) {
   constexpr FieldArray v = &NodalField<D>::v, vL = &NodalField<D>::vL;
   switch (m_.step.scheme) {
     case Scheme::USF:
-      // The GIMP domain update waits until the end of the step: the later stages must use the
-      // same weights as the mass p2g, or momentum is not conserved.
+      // The stress update changes the GIMP domains in place; the later stages still use the
+      // start-of-step weights (the step's stencil factors), as they must: the same weights as the
+      // mass p2g, or momentum is not conserved.
       p2g<Kernel, Scatter::MassMomentum, How>();
       nodal_velocity();
-      update_stress<Kernel, AfterStress::DeferDomain>(dt, v);
+      update_stress<Kernel, AfterStress::Stay>(dt, v);
       p2g<Kernel, Scatter::Force, How>();
-      loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, g.fields, field_of_body_,
-                                    first_field_, last_field_);
+      apply_loads<Kernel>();
       solve_grid(dt);
       g2p<Kernel, AfterGather::Move, How>(dt);
-      apply_deferred_domain_update();
       break;
     case Scheme::USL:
       p2g<Kernel, Scatter::All, How>();
-      loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, g.fields, field_of_body_,
-                                    first_field_, last_field_);
+      apply_loads<Kernel>();
       nodal_velocity_and_solve<Momentum::Keep>(dt);
       g2p<Kernel, AfterGather::None, How>(dt);
       update_stress<Kernel, AfterStress::Move>(dt, vL);
       break;
     case Scheme::MUSL:
       p2g<Kernel, Scatter::All, How>();
-      loads_.template apply<Kernel>(m_.loads, g, m_.particles, schedule_, m_.step.node_mass_floor, g.fields, field_of_body_,
-                                    first_field_, last_field_);
+      apply_loads<Kernel>();
       nodal_velocity_and_solve<Momentum::Clear>(dt);
       g2p<Kernel, AfterGather::Remap, How>(dt);
       nodal_velocity(At::End);
@@ -713,8 +710,6 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
   auto& g = m_.grid;
   auto& p = m_.particles;
   const bool domain_update = m_.step.domain_update();
-  const bool defer_domain = !move;  // USF: the step's later stages still need this step's weights
-  if (domain_update && defer_domain) deferred_eps_.resize(p.size());
   const auto& materials = m_.materials;
   // An anisotropic initial stress held by eq (2) turns with the material, as the stress does.
   const bool rotate_sigma0 = m_.rotate_initial_stress;
@@ -797,8 +792,7 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
             p.V_p[i] *= J;
             if (domain_update) {
               if (held) d_eps = Voigt<D>::Zero();
-              if (defer_domain) deferred_eps_[i] = d_eps;
-              else update_particle_domain<D>(p.l_p[i], d_eps, g.h);
+              update_particle_domain<D>(p.l_p[i], d_eps, g.h);
             }
             if constexpr (move) move_particle(i, dt, vL);
           });
@@ -884,15 +878,6 @@ inline void ExplicitSolver<D>::move_particle(std::size_t i, double dt, Vec<D> vL
   bool inside = true;
   for (int d = 0; d < D; ++d) inside = inside && x[d] >= m_.grid.origin[d] && x[d] <= hi[d];
   if (!inside) note_fault(escaped_, i);
-}
-
-template <int D>
-void ExplicitSolver<D>::apply_deferred_domain_update() {
-  if (!m_.step.domain_update()) return;
-  auto& p = m_.particles;
-  const auto np = static_cast<std::int64_t>(p.size());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < np; ++i) update_particle_domain<D>(p.l_p[i], deferred_eps_[i], m_.grid.h);
 }
 
 // Several threads may find a fault in one step; the lowest particle index is reported, so the

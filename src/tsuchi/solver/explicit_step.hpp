@@ -98,10 +98,9 @@ class ExplicitSolver {
   // What g2p does after updating a particle's velocity: nothing more, project the particle's
   // momentum back to the grid (MUSL, eq 9), or move the particle (eqs 5-6).
   enum class AfterGather { None, Remap, Move };
-  // What the stress update does after the constitutive update: move the particles and update
-  // their GIMP domain, or keep them in place and defer the domain update to the end of the step
-  // (USF, whose later stages need the step's weights).
-  enum class AfterStress { DeferDomain, Move };
+  // What the stress update does after the constitutive update and the GIMP domain update: move
+  // the particles, or leave them where they are (USF, which moves them in g2p).
+  enum class AfterStress { Stay, Move };
 
   using Transfer = VelocityTransfer;
   template <class Kernel> void step_with(double dt);
@@ -123,6 +122,11 @@ class ExplicitSolver {
     else return linear_stencils_;
   }
   template <class Kernel> void scatter_mass_gradient();
+  // The input's [[loads]] into the nodal force, at the step's stencils (solver/load_stage.hpp).
+  template <class Kernel> void apply_loads() {
+    loads_.template apply<Kernel>(m_.loads, m_.grid, m_.particles, stencils<Kernel>(), schedule_,
+                                  m_.step.node_mass_floor, m_.grid.fields, field_of_body_, first_field_, last_field_);
+  }
   template <class F> void for_body_fields(F&& f) {
     for (int k = first_field_; k <= last_field_; ++k) f(k, m_.grid.field(k));
   }
@@ -162,7 +166,6 @@ class ExplicitSolver {
   [[gnu::always_inline]] inline void hold_motion(std::size_t i, Vec<D>& v);
   [[gnu::always_inline]] inline void hold_motion(std::size_t i, Vec<D>& v, Mat<D>& C);
   [[gnu::always_inline]] inline void move_particle(std::size_t i, double dt, Vec<D> vL);
-  void apply_deferred_domain_update();
   void update_free_rigid_bodies(double dt);
   void restore_free_rigid_bodies();
   template <class Kernel> void mark_driven_nodes() const;
@@ -193,7 +196,6 @@ class ExplicitSolver {
   // Per node: bit d set where a held body drives component d; with contact, per body field at
   // offset f * grid size as well (field 0's slot: any body's mark, for the unbalanced-force ratio).
   mutable std::vector<std::uint8_t> driven_;
-  std::vector<Voigt<D>> deferred_eps_;  // USF: this step's strain increments, for the domain update
   BlockSchedule<D> schedule_;           // colour-by-colour scatter order, brought up to date every step
   typename Particles<D>::Scratch sort_scratch_;  // storage for the periodic reordering
   // Loads (solver/load_stage.hpp) and, per body, the factor of its prescribed velocity in this step:

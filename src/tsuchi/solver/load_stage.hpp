@@ -4,8 +4,9 @@
 //   body forces  f_i += sum_p S_ip m_p a_b(t)      (a_b = f(t) b / rho, per body: V_p0 b f(t))
 //   surface      f_i += sum_p S_ip F_p f(t)        (F_p = -p a_p or t |a_p|, over the loaded particles)
 //   node sets    f_i += F_i f(t)                   (only where the node carries mass)
-// at the particles' start-of-step positions, with every function taken at the start of the step,
-// as the gravity is (the explicit update of eq 4 uses the force at t_n).
+// at the particles' start-of-step positions and widths (the step's stencil factors, which USF's
+// stress update has not changed), with every function taken at the start of the step, as the
+// gravity is (the explicit update of eq 4 uses the force at t_n).
 //
 // A node without mass has no velocity (velocity_at() gives it 0 and the solve skips it), so a force
 // on it would act on nothing: a node-set load there is dropped until material reaches the node.
@@ -47,7 +48,8 @@ class LoadStage {
   // bodies). A nodal force is shared among the body fields first..last at its node in proportion to
   // their mass, as a body force acting on what is there.
   template <class Kernel>
-  void apply(const Loads<D>& loads, const Grid<D>& g, const Particles<D>& p, const BlockSchedule<D>& schedule,
+  void apply(const Loads<D>& loads, const Grid<D>& g, const Particles<D>& p,
+             const std::vector<typename Stencil<D, Kernel>::Axes>& stencils, const BlockSchedule<D>& schedule,
              double mass_floor, std::vector<NodalField<D>>& fields, const std::vector<int>& field_of_body, int first,
              int last) const {
     if (!active_) return;
@@ -57,7 +59,7 @@ class LoadStage {
     if (body_force_) {
       schedule.scatter([&](std::size_t i) {
         const Vec<D>& a = body_a_[static_cast<std::size_t>(p.body_p[i])];
-        if (a != Vec<D>::Zero()) spread<Kernel>(g, p, i, Vec<D>(p.m_p[i] * a), f_of(i));
+        if (a != Vec<D>::Zero()) spread<Kernel>(g, stencils[i], Vec<D>(p.m_p[i] * a), f_of(i));
       });
     }
     for (std::size_t l = 0; l < loads.surface.size(); ++l) {
@@ -65,7 +67,7 @@ class LoadStage {
       const double f = surface_f_[l];
       if (f == 0.0) continue;
       for (std::size_t e = 0; e < load.id.size(); ++e)
-        spread<Kernel>(g, p, index_[l][e], f * load.force[e], f_of(index_[l][e]));
+        spread<Kernel>(g, stencils[index_[l][e]], f * load.force[e], f_of(index_[l][e]));
     }
     for (std::size_t l = 0; l < loads.nodal.size(); ++l) {
       const auto& load = loads.nodal[l];
@@ -87,9 +89,9 @@ class LoadStage {
 
  private:
   template <class Kernel>
-  static void spread(const Grid<D>& g, const Particles<D>& p, std::size_t i, const Vec<D>& F, Vec<D>* f_g) {
+  static void spread(const Grid<D>& g, const typename Stencil<D, Kernel>::Axes& axes, const Vec<D>& F, Vec<D>* f_g) {
     Stencil<D, Kernel> st;
-    st.compute(g, p.x_p[i], p.l_p[i]);
+    st.assemble(g, axes);
     st.scatter([&](double T, const std::array<double, D - 1>&) -> Vec<D> { return T * F; },
                [&](std::int64_t k, double w, double, const Vec<D>& TF) { f_g[k] += w * TF; });
   }

@@ -19,6 +19,9 @@ struct SinCos {
 inline SinCos scaled_sin_cos(double phi, double scale, double sin_phi, double cos_phi) {
   // phi (1 + d) = phi + b with b = phi d: the angle-sum formulas with a few terms of the series of
   // sin b and cos b, exact to rounding for the small d of an imperfection.
+  // No imperfection: sin_phi and cos_phi themselves, the bits the series below gives at b = 0,
+  // without its seven divisions.
+  if (scale == 1.0) return {sin_phi, cos_phi};
   const double b = phi * (scale - 1.0);
   if (std::abs(b) >= 0.03) return {std::sin(phi + b), std::cos(phi + b)};  // below, the first omitted terms are < 1e-19
   const double b2 = b * b;

@@ -66,22 +66,36 @@ struct DruckerPrager {
   // What every point of a material shares. Each matching is q_phi = sin phi / D and
   // k_phi = c cos phi / D with D = d0 + d1 sin phi (DP4-DP6), so a point's own phi (1 + d) costs
   // one division (angle_scaling.hpp for its sine and cosine).
+  // A point without an imperfection takes the material's own strength, `plain` (the same bits).
   struct Shared {
     double sin_phi, cos_phi, d0, d1, q_psi;
+    DruckerPragerStrength plain;
   };
   Shared shared() const {
-    constexpr double r3 = std::numbers::sqrt3;
-    const double sp = std::sin(psi);
-    switch (match) {
-      case ConeMatch::Compression: return {std::sin(phi), std::cos(phi), r3 / 2.0, -r3 / 6.0, 6.0 * sp / (r3 * (3.0 - sp))};
-      case ConeMatch::Extension: return {std::sin(phi), std::cos(phi), r3 / 2.0, r3 / 6.0, 6.0 * sp / (r3 * (3.0 + sp))};
-      case ConeMatch::PlaneStrain: break;
-    }
-    const double q_psi = r3 * sp / std::sqrt(3.0 + sp * sp);
-    return {std::sin(phi), std::cos(phi), std::sqrt(1.0 - q_psi * q_psi / 3.0), q_psi / 3.0, q_psi};
+    Shared m = cone();
+    m.plain = scaled_strength(1.0, 1.0, m);
+    return m;
   }
 
   DruckerPragerStrength strength(double c_scale, double phi_scale, const Shared& m) const {
+    if (c_scale == 1.0 && phi_scale == 1.0) return m.plain;
+    return scaled_strength(c_scale, phi_scale, m);
+  }
+
+ private:
+  Shared cone() const {
+    constexpr double r3 = std::numbers::sqrt3;
+    const double sp = std::sin(psi);
+    switch (match) {
+      case ConeMatch::Compression: return {std::sin(phi), std::cos(phi), r3 / 2.0, -r3 / 6.0, 6.0 * sp / (r3 * (3.0 - sp)), {}};
+      case ConeMatch::Extension: return {std::sin(phi), std::cos(phi), r3 / 2.0, r3 / 6.0, 6.0 * sp / (r3 * (3.0 + sp)), {}};
+      case ConeMatch::PlaneStrain: break;
+    }
+    const double q_psi = r3 * sp / std::sqrt(3.0 + sp * sp);
+    return {std::sin(phi), std::cos(phi), std::sqrt(1.0 - q_psi * q_psi / 3.0), q_psi / 3.0, q_psi, {}};
+  }
+
+  DruckerPragerStrength scaled_strength(double c_scale, double phi_scale, const Shared& m) const {
     const SinCos a = scaled_sin_cos(phi, phi_scale, m.sin_phi, m.cos_phi);
     const double c = cohesion * c_scale, D = m.d0 + m.d1 * a.sin;
     DruckerPragerStrength s;
@@ -92,6 +106,8 @@ struct DruckerPrager {
     s.sigma_t = tension * a.sin <= c * a.cos ? tension : c * a.cos / a.sin;
     return s;
   }
+
+ public:
   // The `tsuchi fos` hook (material.hpp): c, phi, psi and the tension reduced by F (strength_reduction.hpp),
   // the cone then matched to the reduced Mohr-Coulomb parameters as the input's `match` says.
   DruckerPrager reduced(double F, bool reduce_dilatancy) const {

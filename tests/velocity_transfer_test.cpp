@@ -98,7 +98,7 @@ Model<D> block(const std::string& transfer, double pic_fraction, int per_cell = 
 Mat<2> inertia_D(const Model<2>& m, std::size_t i) {
   Stencil<2, shape::GimpKernel> st;
   st.compute(m.grid, m.particles.x_p[i], m.particles.l_p[i]);
-  st.compute_offsets(m.grid.h);
+  st.compute_offsets(m.grid, m.particles.x_p[i]);
   Mat<2> Dp = Mat<2>::Zero();
   for (int n = 0; n < Stencil<2, shape::GimpKernel>::N; ++n) {
     const Vec<2> r(st.rx[n % 3], st.ry[n / 3][0]);
@@ -231,7 +231,7 @@ Mat<D> inertia(const Model<D>& m, std::size_t i) {
   using St = Stencil<D, shape::GimpKernel>;
   St st;
   st.compute(m.grid, m.particles.x_p[i], m.particles.l_p[i]);
-  st.compute_offsets(m.grid.h);
+  st.compute_offsets(m.grid, m.particles.x_p[i]);
   Mat<D> Dp = Mat<D>::Zero();
   for (int n = 0; n < St::N; ++n) {
     Vec<D> r;

@@ -16,7 +16,7 @@
 // colouring of the scatter derives from them, grid/block_schedule.hpp) and weights() (gimp.hpp).
 //
 // A stage that needs where the nodes are relative to the particle (APIC's affine transfer) calls
-// compute_offsets() after compute() and gives its functions one more parameter: the row function
+// compute_offsets() with the particle's position and gives its functions one more parameter: the row function
 // then also gets the row's offsets along the other axes, ry[r] (x_i - x_p along y, z), and the
 // node function the node's offset along x, rx[a]. Stages that do not ask pay nothing.
 //
@@ -60,15 +60,21 @@ struct Stencil {
   std::array<double, K> rx;
   std::array<std::array<double, D - 1>, R> ry;
   Eigen::Array<int, D, 1> node0;  // first node index per axis (Axes::node0)
-  Eigen::Array<double, D, 1> xi;  // (x_p - origin) / h
+
+  // The particle's position in cell units, (x_p - origin) / h: the kernel's argument. One formula
+  // for every caller, so a stage that needs it again (compute_offsets, the cell-centre remedy) gets
+  // the bits the kernel got, from the same, not yet moved, position.
+  [[gnu::always_inline]] static inline Eigen::Array<double, D, 1> in_cells(const Grid<D>& grid, const Vec<D>& x) {
+    return (x - grid.origin).array() * grid.inv_h;
+  }
 
   // What the stencil is made of, per axis: the weights and derivatives (zero off the grid's
-  // edge), (x_p - origin) / h and the first node. A step keeps these per
-  // particle (120 bytes in 2D, 184 in 3D; solver/explicit_step.cpp) and every stage assembles its
-  // stencil from them, which costs copies and, in 3D, the 27 row products, not the kernel again.
+  // edge) and the first node. A step keeps these per particle (104 bytes in 2D, 160 in 3D;
+  // solver/explicit_step.cpp) and every stage assembles its stencil from them, which costs copies
+  // and, in 3D, the 27 row products, not the kernel again. Not xi: the few stages that need it
+  // compute it from the particle's position (16 or 24 bytes per particle for a few products).
   struct Axes {
     std::array<std::array<double, K>, D> w, dw;
-    Eigen::Array<double, D, 1> xi;
     // First node index per axis, clamped to the range the grid's edge tables hold: the kernel's
     // own for every particle inside the grid; for one outside, about to be reported, it keeps the
     // table reads of the stages inside the tables.
@@ -78,8 +84,8 @@ struct Stencil {
   [[gnu::always_inline]] static inline void axes(const Grid<D>& grid, const Vec<D>& x, const Vec<D>& lp, Axes& out) {
     using A = Eigen::Array<double, D, 1>;
     std::array<A, K> wa, dwa;
-    out.xi = (x - grid.origin).array() * grid.inv_h;
-    const Eigen::Array<int, D, 1> node0 = Kernel::template weights<D>(out.xi, grid.inv_h, lp.array(), wa, dwa);
+    const A xi_p = in_cells(grid, x);
+    const Eigen::Array<int, D, 1> node0 = Kernel::template weights<D>(xi_p, grid.inv_h, lp.array(), wa, dwa);
     for (int d = 0; d < D; ++d) {
       const std::size_t first = first_entry(grid, d, node0[d]);
       out.node0[d] = static_cast<int>(first) - Grid<D>::kEdge;
@@ -95,7 +101,6 @@ struct Stencil {
   // tables (a few reads of lines every particle shares, cheaper than storing them per particle).
   [[gnu::always_inline]] inline void assemble(const Grid<D>& grid, const Axes& a) {
     node0 = a.node0;
-    xi = a.xi;
     const auto& w = a.w;
     const auto& dw = a.dw;
     std::array<std::array<std::int64_t, K>, D> off;
@@ -130,9 +135,12 @@ struct Stencil {
     assemble(grid, a);
   }
 
-  // The nodes' offsets from the particle, x_i - x_p = h (i - xi), for the functions that take them.
-  // Off the grid's edge the weight is 0, so whatever offset such a node has does not count.
-  [[gnu::always_inline]] inline void compute_offsets(double h) {
+  // The nodes' offsets from the particle at x (the position the stencil was computed at),
+  // x_i - x_p = h (i - xi), for the functions that take them. Off the grid's edge the weight is 0,
+  // so whatever offset such a node has does not count.
+  [[gnu::always_inline]] inline void compute_offsets(const Grid<D>& grid, const Vec<D>& x) {
+    const Eigen::Array<double, D, 1> xi = in_cells(grid, x);
+    const double h = grid.h;
     std::array<std::array<double, K>, D> o;
     for (int d = 0; d < D; ++d)
       for (int k = 0; k < K; ++k) o[d][k] = h * (static_cast<double>(node0[d] + k) - xi[d]);

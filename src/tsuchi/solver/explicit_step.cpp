@@ -173,12 +173,13 @@ namespace {
 
 // The particle's strain increment with the volumetric part its material's remedy takes
 // (solver.anti_locking): the cell centre's, eq (V2), or the nodal average's, eq (V3), from the
-// average of the particle's body field.
+// average of the particle's body field. x is the particle's start-of-step position (the cell's).
 template <int D, class Kernel>
 [[gnu::always_inline]] inline void apply_anti_locking(AntiLocking remedy, const Grid<D>& g, const Stencil<D, Kernel>& st,
-                                                      const Vec<D>* v_g, const NodalAverage<D>& average, int field,
-                                                      int material, double dt, Voigt<D>& d_eps) {
-  if (remedy == AntiLocking::Cell) replace_volumetric_strain<D>(d_eps, dt * cell_centre_divergence<D>(g, v_g, st.xi));
+                                                      const Vec<D>& x, const Vec<D>* v_g, const NodalAverage<D>& average,
+                                                      int field, int material, double dt, Voigt<D>& d_eps) {
+  if (remedy == AntiLocking::Cell)
+    replace_volumetric_strain<D>(d_eps, dt * cell_centre_divergence<D>(g, v_g, Stencil<D, Kernel>::in_cells(g, x)));
   else if (node_averaged(remedy)) replace_volumetric_strain<D>(d_eps, average.gather(st, field, material));
 }
 
@@ -283,7 +284,7 @@ void ExplicitSolver<D>::p2g() {
         Vec<D> mC_x;  // T m C e_x
       };
       const Mat<D> mC = m * p.C_p[i];
-      st.compute_offsets(g.h);
+      st.compute_offsets(g, p.x_p[i]);
       st.scatter(
           [&](double T, const std::array<double, D - 1>& dT, const std::array<double, D - 1>& ry) {
             Vec<D> mv_row = mv;
@@ -557,7 +558,7 @@ void ExplicitSolver<D>::g2p_affine(double dt) {
     const Vec<D>* const vL_g = n.vL.data();  // local addresses: see p2g
     Vec<D>* const p_g = n.p.data();
     Stencil<D, Kernel> st = stencil_of<Kernel>(i);
-    st.compute_offsets(g.h);
+    st.compute_offsets(g, p.x_p[i]);  // before this particle moves, below
     Vec<D> vL = Vec<D>::Zero();
     Mat<D> B = Mat<D>::Zero(), Dp = Mat<D>::Zero();
     double sum_w = 0.0, sum_w_rx = 0.0, sum_w_rx2 = 0.0;
@@ -772,7 +773,7 @@ void ExplicitSolver<D>::update_stress(double dt, FieldArray v_strain) {
             // A rigid body's strain is its prescribed motion's: no remedy (its field's velocities
             // carry the contact impulses, which the nodal average would turn into volume change).
             const AntiLocking own = rigid_field_[field] ? AntiLocking::None : remedy;
-            apply_anti_locking<D>(own, g, st, v_g, volume_strain_average_, static_cast<int>(field),
+            apply_anti_locking<D>(own, g, st, p.x_p[i], v_g, volume_strain_average_, static_cast<int>(field),
                                   static_cast<int>(mat), dt, d_eps);
             const Mat<D> d_omega = 0.5 * dt * (L - L.transpose());
             jaumann_rotate(p.sigma_p[i], d_omega);

@@ -66,8 +66,8 @@ struct Model {
 
 // Peak memory of a run in bytes, from its grid slots (Grid::size) and particle count: the model
 // (Model::bytes) and the step's stencil factors per particle (Stencil::Axes), plus the block
-// schedule and reordering scratch (peak RSS measured at 1.19 times the model for 1e6 particles,
-// BENCHMARKS.md), plus 32 MB for the program.
+// schedule and the reordering's marks (a quarter on top covers them: peak RSS measured at 1.02-1.05
+// times model and factors for the 1e6-particle blocks, BENCHMARKS.md), plus 32 MB for the program.
 // `layout` is the model's particles before any is added: which optional arrays they hold.
 template <int D>
 double memory_estimate(double grid_slots, double particles, const Particles<D>& layout) {

@@ -90,10 +90,15 @@ struct MohrCoulomb {
     Strength plain;
   };
   Shared shared() const {
-    const double ss = std::sin(psi);
-    Shared m{std::sin(phi), std::cos(phi), (1.0 + ss) / (1.0 - ss), {}};
+    Shared m = angles();
     m.plain = scaled_strength(1.0, 1.0, m);
     return m;
+  }
+  // The angles alone, `plain` left empty: for a caller that makes a Shared per point and then
+  // takes scaled_strength() (mohr_coulomb_softening.hpp), which would compute `plain` for nothing.
+  Shared angles() const {
+    const double ss = std::sin(psi);
+    return {std::sin(phi), std::cos(phi), (1.0 + ss) / (1.0 - ss), {}};
   }
 
   // The `tsuchi fos` hook (material.hpp): c, phi, psi and sigma_t reduced by F (strength_reduction.hpp).

@@ -106,7 +106,8 @@ struct MohrCoulombSoftening {
     PlasticPoint point{YieldMode::Elastic, s[kPlasticShear], s[kPlasticVolume]};
     m.elastic.update<D>(sigma, d_eps);
     const Voigt<D> trial = sigma;
-    const YieldMode mode = m.correct<D>(sigma, m.strength(s[kCohesionFactor], s[kFrictionFactor], m.shared()), point);
+    const MohrCoulomb::Strength strength = m.scaled_strength(s[kCohesionFactor], s[kFrictionFactor], m.angles());
+    const YieldMode mode = m.correct<D>(sigma, strength, point);
     if (mode == YieldMode::Shear) s[kSoftening] += softening_increment<D>(trial - sigma);
     s[kMode] = static_cast<double>(mode);
     s[kPlasticShear] = point.plastic_shear;

@@ -65,13 +65,31 @@ TEST(Grid, OneNodalFieldUnlessAsked) {
   ASSERT_EQ(g.fields.size(), 1u);
   EXPECT_EQ(g.field().m.size(), g.size());
   EXPECT_EQ(g.field().vL.size(), g.size());
-  EXPECT_EQ(g.bytes(), g.size() * Grid<2>::bytes_per_slot());
+  EXPECT_EQ(g.field().a.size(), g.size());  // kept by default
+  EXPECT_EQ(g.bytes(), g.size() * Grid<2>::bytes_per_slot(true));
   const int k = g.add_field();
   EXPECT_EQ(k, 1);
   ASSERT_EQ(g.fields.size(), 2u);
   EXPECT_EQ(g.field(1).p.size(), g.size());
   EXPECT_EQ(g.field(1).m[3], 0.0);
-  EXPECT_EQ(g.bytes(), g.size() * (Grid<2>::bytes_per_slot() + NodalField<2>::bytes_per_slot()));
+  EXPECT_EQ(g.bytes(), g.size() * (Grid<2>::bytes_per_slot(true) + NodalField<2>::bytes_per_slot(true)));
+}
+
+// Without FLIP nothing reads the nodal acceleration: no field holds it, and the grid counts a
+// vector less per slot and field (16 of 89 bytes in 2D).
+TEST(Grid, NoAccelerationArrayUnlessKept) {
+  Grid<2> g;
+  g.n_nodes = {9, 6};
+  g.keep_acceleration = false;
+  g.allocate();
+  g.add_field();
+  for (const auto& n : g.fields) {
+    EXPECT_TRUE(n.a.empty());
+    EXPECT_FALSE(n.keeps_acceleration());
+    EXPECT_EQ(n.vL.size(), g.size());
+  }
+  EXPECT_EQ(Grid<2>::bytes_per_slot(false), Grid<2>::bytes_per_slot(true) - sizeof(Vec<2>));
+  EXPECT_EQ(g.bytes(), g.size() * (Grid<2>::bytes_per_slot(false) + NodalField<2>::bytes_per_slot(false)));
 }
 
 // Particles at random in a grid of n_nodes, scheduled for `reach`; checks the colouring and the

@@ -19,19 +19,26 @@ struct NodalField {
   std::vector<Vec<D>> p;   // momentum
   std::vector<Vec<D>> f;   // internal + external force
   std::vector<Vec<D>> v;   // velocity p / m (before the step, or remapped)
-  std::vector<Vec<D>> a;   // acceleration
+  // Acceleration: kept only for FLIP's g2p (and its blends with PIC), its one reader
+  // (Grid::keep_acceleration); empty otherwise. APIC's g2p reads v^L alone, and the solve then
+  // forms a node's acceleration and uses it in the same pass.
+  std::vector<Vec<D>> a;
   std::vector<Vec<D>> vL;  // updated velocity v^L = v + dt a
 
-  void allocate(std::size_t slots) {
+  void allocate(std::size_t slots, bool with_acceleration) {
     m.assign(slots, 0.0);
     p.assign(slots, Vec<D>::Zero());
     f.assign(slots, Vec<D>::Zero());
-    a.assign(slots, Vec<D>::Zero());
+    if (with_acceleration) a.assign(slots, Vec<D>::Zero());
+    else a.clear(), a.shrink_to_fit();
     v.assign(slots, Vec<D>::Zero());
     vL.assign(slots, Vec<D>::Zero());
   }
+  bool keeps_acceleration() const { return !a.empty(); }
 
-  static constexpr std::size_t bytes_per_slot() { return sizeof(double) + 5 * sizeof(Vec<D>); }
+  static constexpr std::size_t bytes_per_slot(bool with_acceleration) {
+    return sizeof(double) + (with_acceleration ? 5 : 4) * sizeof(Vec<D>);
+  }
 };
 
 template <int D>
@@ -139,18 +146,22 @@ struct Grid {
     }
   }
 
+  // Whether the nodal fields keep the acceleration (NodalField::a): only FLIP's g2p reads it. Set
+  // before allocate() (model/model.cpp, from solver.velocity_transfer; a stage cannot change it).
+  bool keep_acceleration = true;
+
   // index_axes(), the boundary conditions (none held) and one nodal field.
   void allocate() {
     index_axes();
     const std::size_t n = size();
     fields.assign(1, NodalField<D>{});
-    fields[0].allocate(n);
+    fields[0].allocate(n, keep_acceleration);
     fixed_g.assign(n, 0);
   }
 
   // A further nodal field, after allocate(); returns its number.
   int add_field() {
-    fields.emplace_back().allocate(size());
+    fields.emplace_back().allocate(size(), keep_acceleration);
     return static_cast<int>(fields.size()) - 1;
   }
 
@@ -158,10 +169,12 @@ struct Grid {
   const NodalField<D>& field(int k = 0) const { return fields[static_cast<std::size_t>(k)]; }
 
   // Bytes per storage slot with one nodal field (what allocate() takes); each add_field() adds
-  // NodalField<D>::bytes_per_slot().
-  static constexpr std::size_t bytes_per_slot() { return NodalField<D>::bytes_per_slot() + sizeof(std::uint8_t); }
+  // NodalField<D>::bytes_per_slot(keep_acceleration).
+  static constexpr std::size_t bytes_per_slot(bool with_acceleration) {
+    return NodalField<D>::bytes_per_slot(with_acceleration) + sizeof(std::uint8_t);
+  }
   std::size_t bytes() const {
-    return size() * (fields.size() * NodalField<D>::bytes_per_slot() + sizeof(std::uint8_t));
+    return size() * (fields.size() * NodalField<D>::bytes_per_slot(keep_acceleration) + sizeof(std::uint8_t));
   }
 };
 

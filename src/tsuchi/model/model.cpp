@@ -212,7 +212,7 @@ void check_memory(const Config& c, const Grid<D>& g, const Particles<D>& layout)
   double particles = 0.0;
   for (const auto& b : c.bodies)
     particles += b.shape ? lattice<D>(b, g).total : static_cast<double>(b.particles->x.size());
-  double bytes = memory_estimate<D>(static_cast<double>(g.size()), particles, layout);
+  double bytes = memory_estimate<D>(static_cast<double>(g.size()), particles, layout, g.keep_acceleration);
   // Contact between bodies adds a velocity field per body of a frictional or rough pair (at most,
   // plus one shared), each with its mass gradient and node-averaged volumetric strain.
   std::vector<int> in_pairs;
@@ -221,7 +221,7 @@ void check_memory(const Config& c, const Grid<D>& g, const Particles<D>& layout)
   std::sort(in_pairs.begin(), in_pairs.end());
   in_pairs.erase(std::unique(in_pairs.begin(), in_pairs.end()), in_pairs.end());
   if (!in_pairs.empty()) {
-    const double per_field = static_cast<double>(NodalField<D>::bytes_per_slot() + sizeof(Vec<D>) + 2 * sizeof(double) + 1);
+    const double per_field = static_cast<double>(NodalField<D>::bytes_per_slot(g.keep_acceleration) + sizeof(Vec<D>) + 2 * sizeof(double) + 1);
     bytes += 1.25 * static_cast<double>(in_pairs.size() + 1) * per_field * static_cast<double>(g.size());
   }
   const double avail = available_memory();
@@ -443,6 +443,7 @@ Model<D> build_model(const Config& c) {
     m.grid.n_nodes[d] = c.grid.cells[d] + 1;
   }
   m.grid.h = c.grid.cell_size;
+  m.grid.keep_acceleration = c.solver.velocity_transfer == VelocityTransfer::Flip;
   // A model whose strength depends on the cell size (material.hpp, with_cell_size) is set for it.
   for (Material& mat : m.materials)
     std::visit([&](auto& model) {

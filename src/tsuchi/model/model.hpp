@@ -68,12 +68,13 @@ struct Model {
 // (Model::bytes) and the step's stencil factors per particle (Stencil::Axes), plus the block
 // schedule and the reordering's marks (a quarter on top covers them: peak RSS measured at 1.02-1.05
 // times model and factors for the 1e6-particle blocks, BENCHMARKS.md), plus 32 MB for the program.
-// `layout` is the model's particles before any is added: which optional arrays they hold.
+// `layout` is the model's particles before any is added: which optional arrays they hold;
+// `keep_acceleration` whether the grid holds the nodal acceleration (Grid::keep_acceleration).
 template <int D>
-double memory_estimate(double grid_slots, double particles, const Particles<D>& layout) {
+double memory_estimate(double grid_slots, double particles, const Particles<D>& layout, bool keep_acceleration) {
   const double per_particle =
       static_cast<double>(layout.bytes_per_particle() + sizeof(typename Stencil<D, shape::GimpKernel>::Axes));
-  const double model = grid_slots * Grid<D>::bytes_per_slot() + particles * per_particle;
+  const double model = grid_slots * static_cast<double>(Grid<D>::bytes_per_slot(keep_acceleration)) + particles * per_particle;
   return 1.25 * model + 32e6;
 }
 

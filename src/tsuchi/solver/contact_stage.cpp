@@ -85,8 +85,8 @@ void ContactStage<D>::begin_step(Model<D>& m, const BlockSchedule<D>& schedule, 
 
 template <int D>
 void ContactStage<D>::correct(Model<D>& m, const BlockSchedule<D>& schedule, Stage stage, double dt) {
-  if (stage == Stage::Solve && !dv_start_.empty()) {
-    // USF: the Start stage's velocity changes join the solve's in a.
+  if (stage == Stage::Solve && !dv_start_.empty() && m.grid.keep_acceleration) {
+    // USF: the Start stage's velocity changes join the solve's in a (kept for FLIP only).
     auto& F = m.grid.fields;
     const int f0 = first(m), f1 = last(m);
     schedule.for_active_nodes([&](std::int64_t kk) {
@@ -129,10 +129,13 @@ void ContactStage<D>::between_fields(Model<D>& m, const BlockSchedule<D>& schedu
   const double floor = m.step.node_mass_floor;
   std::vector<Vec<D>> NodalField<D>::*const vel = stage == Stage::Solve ? &NodalField<D>::vL : &NodalField<D>::v;
   // Books a velocity change of field f at node k: into a (Solve) so that FLIP particles take it,
-  // or into dv_start (Start, folded into a at the solve).
+  // or into dv_start (Start, folded into a at the solve). Without FLIP the grid keeps no a.
+  const bool keep_a = m.grid.keep_acceleration;
   const auto book = [&](int f, std::size_t k, const Vec<D>& dv) {
     (F[f].*vel)[k] += dv;
-    if (stage == Stage::Solve) F[f].a[k] += dv / dt;
+    if (stage == Stage::Solve) {
+      if (keep_a) F[f].a[k] += dv / dt;
+    }
     else if (stage == Stage::Start) dv_start_[static_cast<std::size_t>(f - 1)][k] += dv;
   };
   schedule.for_active_nodes([&](std::int64_t kk) {
@@ -228,8 +231,10 @@ void ContactStage<D>::against_walls(Model<D>& m, const BlockSchedule<D>& schedul
         if (dv == Vec<D>::Zero()) continue;
         (F[f].*vel)[k] += dv;
         if (stage == Stage::Remap) continue;
-        if (stage == Stage::Solve) F[f].a[k] += dv / dt;
-        else dv_start_[static_cast<std::size_t>(f - f0)][k] += dv;
+        if (stage == Stage::Solve) {
+          if (F[f].keeps_acceleration()) F[f].a[k] += dv / dt;
+        } else
+          dv_start_[static_cast<std::size_t>(f - f0)][k] += dv;
         wall_impulse_[w] += mf * dv;
         if (!(acted_[k] & 1u)) {
           normal_[k] = wall.normal;

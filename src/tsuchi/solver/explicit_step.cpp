@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
 #include <type_traits>
 
 namespace tsuchi {
@@ -417,10 +418,12 @@ void ExplicitSolver<D>::solve_grid(double dt) {
   if (spare_contact) mark_contact_nodes();
   for_body_fields([&](int field, NodalField<D>& n) {
     const std::size_t driven_offset = static_cast<std::size_t>(field) * size;
+    const bool keep_a = n.keeps_acceleration();
     schedule_.for_active_nodes([&](std::int64_t k) {
       const bool undamped = spare_contact && contact_node_[static_cast<std::size_t>(k)];
-      n.a[k] = acceleration_at(n, k, n.v[k], driven_offset, undamped);
-      n.vL[k] = n.v[k] + dt * n.a[k];
+      const Vec<D> a = acceleration_at(n, k, n.v[k], driven_offset, undamped);
+      if (keep_a) n.a[k] = a;
+      n.vL[k] = n.v[k] + dt * a;
     });
     held_nodes_.set_solve(m_, schedule_, n);
   });
@@ -445,10 +448,11 @@ void ExplicitSolver<D>::nodal_velocity_and_solve(double dt) {
   }
   auto& n = nodes();
   held_nodes_.book(m_, schedule_, n);  // before p is cleared: see solve_grid
+  const bool keep_a = n.keeps_acceleration();
   schedule_.for_active_nodes([&](std::int64_t k) {
     const Vec<D> v = velocity_at(n, k), a = acceleration_at(n, k, v);
     n.v[k] = v;
-    n.a[k] = a;
+    if (keep_a) n.a[k] = a;
     n.vL[k] = v + dt * a;
     if constexpr (Then == Momentum::Clear) n.p[k] = Vec<D>::Zero();
   });
@@ -501,6 +505,9 @@ template <class Kernel, typename ExplicitSolver<D>::AfterGather Then>
 void ExplicitSolver<D>::g2p_flip(double dt) {
   auto& g = m_.grid;
   auto& p = m_.particles;
+  // The model keeps the nodal acceleration for a FLIP run (model.cpp); a step that reached here
+  // without it would read an empty array.
+  if (!g.keep_acceleration) throw std::logic_error("g2p_flip: the grid keeps no nodal acceleration");
   const double beta = m_.step.pic_fraction;
   struct Sums {
     Vec<D> a, vL;

@@ -85,7 +85,6 @@ TEST(Grid, NoAccelerationArrayUnlessKept) {
   g.add_field();
   for (const auto& n : g.fields) {
     EXPECT_TRUE(n.a.empty());
-    EXPECT_FALSE(n.keeps_acceleration());
     EXPECT_EQ(n.vL.size(), g.size());
   }
   EXPECT_EQ(Grid<2>::bytes_per_slot(false), Grid<2>::bytes_per_slot(true) - sizeof(Vec<2>));

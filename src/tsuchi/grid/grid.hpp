@@ -34,7 +34,6 @@ struct NodalField {
     v.assign(slots, Vec<D>::Zero());
     vL.assign(slots, Vec<D>::Zero());
   }
-  bool keeps_acceleration() const { return !a.empty(); }
 
   static constexpr std::size_t bytes_per_slot(bool with_acceleration) {
     return sizeof(double) + (with_acceleration ? 5 : 4) * sizeof(Vec<D>);

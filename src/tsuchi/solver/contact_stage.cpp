@@ -232,7 +232,7 @@ void ContactStage<D>::against_walls(Model<D>& m, const BlockSchedule<D>& schedul
         (F[f].*vel)[k] += dv;
         if (stage == Stage::Remap) continue;
         if (stage == Stage::Solve) {
-          if (F[f].keeps_acceleration()) F[f].a[k] += dv / dt;
+          if (m.grid.keep_acceleration) F[f].a[k] += dv / dt;
         } else
           dv_start_[static_cast<std::size_t>(f - f0)][k] += dv;
         wall_impulse_[w] += mf * dv;

@@ -415,10 +415,10 @@ void ExplicitSolver<D>::solve_grid(double dt) {
   // -alpha |f| sign(v), flips with the sign of a velocity near zero at a body at rest on another,
   // and the contact's reaction took it on, +-alpha of the weight from step to step.
   const bool spare_contact = contact_on() && m_.step.damping > 0.0;
+  const bool keep_a = m_.grid.keep_acceleration;
   if (spare_contact) mark_contact_nodes();
   for_body_fields([&](int field, NodalField<D>& n) {
     const std::size_t driven_offset = static_cast<std::size_t>(field) * size;
-    const bool keep_a = n.keeps_acceleration();
     schedule_.for_active_nodes([&](std::int64_t k) {
       const bool undamped = spare_contact && contact_node_[static_cast<std::size_t>(k)];
       const Vec<D> a = acceleration_at(n, k, n.v[k], driven_offset, undamped);
@@ -448,7 +448,7 @@ void ExplicitSolver<D>::nodal_velocity_and_solve(double dt) {
   }
   auto& n = nodes();
   held_nodes_.book(m_, schedule_, n);  // before p is cleared: see solve_grid
-  const bool keep_a = n.keeps_acceleration();
+  const bool keep_a = m_.grid.keep_acceleration;
   schedule_.for_active_nodes([&](std::int64_t k) {
     const Vec<D> v = velocity_at(n, k), a = acceleration_at(n, k, v);
     n.v[k] = v;

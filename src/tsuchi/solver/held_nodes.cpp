@@ -96,7 +96,7 @@ void HeldNodes<D>::set_solve(const Model<D>& m, const BlockSchedule<D>& schedule
       for (int d = 0; d < D; ++d)
         if (set.driven_mask[j] & (1u << d)) {
           n.v[k][d] = v0[d];
-          if (n.keeps_acceleration()) n.a[k][d] = (v1[d] - v0[d]) / dt_;
+          if (m.grid.keep_acceleration) n.a[k][d] = (v1[d] - v0[d]) / dt_;
           n.vL[k][d] = v1[d];
         }
     }

@@ -10,8 +10,12 @@
 //     CB-Geo and MPM-Geomechanics, each read, built and run for its 2,000 steps as `tsuchi run`
 //     does with output off; the figure counts every second from reading the input to the end,
 //     and the share of it spent outside the steps (start-up) is reported beside it.
-// Usage: tsuchi-bench [--quick | --triaxial | --whole]   (quick: small cases, a smoke run of a few
-// seconds; triaxial: only the triaxial case, for profiling; whole: only the whole runs)
+//   - the host's price of a parallel stage (--sync, and at the end of a full run): an empty
+//     parallel region (fork and join) and a barrier, on every core. Each step pays a fixed number
+//     of both (scripts/count-omp-regions.sh counts them), whatever the particle loops cost.
+// Usage: tsuchi-bench [--quick | --triaxial | --whole | --sync]   (quick: small cases, a smoke run
+// of a few seconds; triaxial: only the triaxial case, for profiling; whole: only the whole runs;
+// sync: only the region and barrier costs)
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/run/simulation.hpp"
 #include "tsuchi/solver/explicit_step.hpp"
@@ -195,20 +199,56 @@ void whole_runs(const std::vector<int>& threads) {
   for (int t : threads) whole_run<3>(dir + "slab_3d.toml", "whole run: triaxial geometry, 3D slab", t);
 }
 
+// Microseconds per empty parallel region and per barrier on `threads` threads: the median of
+// seven batches of 20,000 (the first batch also wakes the thread team).
+void sync_costs(int threads) {
+  using Clock = std::chrono::steady_clock;
+  constexpr int kBatch = 20000;
+  omp_set_num_threads(threads);
+  std::vector<double> region, barrier;
+  for (int r = 0; r < 7; ++r) {
+    const auto t0 = Clock::now();
+    for (int k = 0; k < kBatch; ++k) {
+#pragma omp parallel
+      {
+        // Nothing to do: the region's fork and join is what is timed.
+        asm volatile("" ::: "memory");
+      }
+    }
+    const auto t1 = Clock::now();
+#pragma omp parallel
+    for (int k = 0; k < kBatch; ++k) {
+#pragma omp barrier
+    }
+    const auto t2 = Clock::now();
+    region.push_back(std::chrono::duration<double, std::micro>(t1 - t0).count() / kBatch);
+    barrier.push_back(std::chrono::duration<double, std::micro>(t2 - t1).count() / kBatch);
+  }
+  std::sort(region.begin(), region.end());
+  std::sort(barrier.begin(), barrier.end());
+  fmt::print("{:<34} {} threads  empty parallel region {:.2f} us, barrier {:.2f} us (median of 7 x {})\n",
+             "OpenMP synchronisation", threads, region[3], barrier[3], kBatch);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   const bool quick = argc > 1 && std::strcmp(argv[1], "--quick") == 0;
   const bool only_triaxial = argc > 1 && std::strcmp(argv[1], "--triaxial") == 0;
   const bool only_whole = argc > 1 && std::strcmp(argv[1], "--whole") == 0;
-  if (argc > 2 || (argc == 2 && !quick && !only_triaxial && !only_whole)) {
-    std::fprintf(stderr, "usage: tsuchi-bench [--quick | --triaxial | --whole]\n");
+  const bool only_sync = argc > 1 && std::strcmp(argv[1], "--sync") == 0;
+  if (argc > 2 || (argc == 2 && !quick && !only_triaxial && !only_whole && !only_sync)) {
+    std::fprintf(stderr, "usage: tsuchi-bench [--quick | --triaxial | --whole | --sync]\n");
     return 2;
   }
   const int cores = omp_get_num_procs();
   std::vector<int> threads{1};
   if (cores > 1) threads.push_back(cores);
   fmt::print("tsuchi-bench: {} cores\n", cores);
+  if (only_sync) {
+    sync_costs(cores);
+    return 0;
+  }
   if (quick) {
     triaxial(100, threads);
     triaxial(100, threads, true);
@@ -228,5 +268,6 @@ int main(int argc, char** argv) {
   block<2>(158, 40, threads);    // 99,856 particles
   block<2>(500, 10, threads);    // 1,000,000 particles
   block<3>(50, 4, threads);      // 1,000,000 particles
+  sync_costs(cores);
   return 0;
 }

@@ -9,12 +9,18 @@
 # under the time per step that no change to the particle loops moves. This script builds a small
 # preload library (with the system's c++, into a temporary folder) that counts the calls tsuchi
 # makes into GCC's OpenMP runtime (libgomp): GOMP_parallel (every `omp parallel`, `parallel for`
-# with a static schedule included), GOMP_parallel_loop_* (other schedules), GOMP_barrier (explicit
-# barriers and the end of a worksharing loop without nowait) and GOMP_loop_end (the end of a
-# dynamic loop). It runs `TSUCHI run INPUT --threads 1 -o TMP --set time.max_steps=N` for
+# with a static schedule included), GOMP_parallel_loop_* and GOMP_parallel_sections (the other
+# combined constructs), GOMP_barrier (explicit barriers, the end of a static worksharing loop
+# without nowait and of `omp single`) and GOMP_loop_end, GOMP_sections_end and
+# GOMP_single_copy_end (the ends of the other worksharing constructs, each a barrier; their
+# *_cancel forms too). Reductions and `omp critical` take a lock, not a barrier, and are not
+# counted. tsuchi uses only `parallel`, static `parallel for`, `barrier` and `critical` today; the
+# others are counted so that a new stage using them is not missed. It runs
+# `TSUCHI run INPUT --threads 1 -o TMP --set time.max_steps=N` for
 # N = 100 and 200 (on one thread, so a barrier is one call) and prints the difference divided by
 # the difference of the steps the two runs made (their summary line): per step, the set-up's
-# regions cancelling out. Output is written to a temporary folder, removed at the end.
+# regions cancelling out. Output is written to a temporary folder, removed at the end. The extra
+# options must not set --threads (a barrier would count once per thread).
 # Needs a tsuchi built with GCC (libgomp); the counts do not depend on the thread count.
 # Exit status: 0 counted; 2 usage error or a failed run or build.
 set -euo pipefail
@@ -30,7 +36,10 @@ shift 2
 [[ -x $tsuchi ]] || { echo "count-omp-regions.sh: $tsuchi is not an executable" >&2; exit 2; }
 [[ -f $input ]] || { echo "count-omp-regions.sh: no input file $input" >&2; exit 2; }
 
-tmp=$(mktemp -d)
+for a in "$@"; do
+  case $a in -j|--threads|-j*|--threads=*) echo "count-omp-regions.sh: do not set --threads: the count is made on one thread" >&2; exit 2;; esac
+done
+tmp=$(mktemp -d) || { echo "count-omp-regions.sh: cannot make a temporary folder" >&2; exit 2; }
 trap 'rm -rf "$tmp"' EXIT
 cat > "$tmp/count.cpp" <<'EOF'
 // Forwards each counted libgomp entry to the real one (the next definition after this library).
@@ -66,15 +75,49 @@ void GOMP_parallel(void (*fn)(void*), void* data, unsigned threads, unsigned fla
 TSUCHI_COUNT_LOOP(static)
 TSUCHI_COUNT_LOOP(dynamic)
 TSUCHI_COUNT_LOOP(guided)
-void GOMP_barrier() {
-  static const auto real = next<void (*)()>("GOMP_barrier");
-  ++barriers;
-  real();
+TSUCHI_COUNT_LOOP(nonmonotonic_dynamic)
+TSUCHI_COUNT_LOOP(nonmonotonic_guided)
+void GOMP_parallel_loop_runtime(void (*fn)(void*), void* data, unsigned threads, long start, long end, long incr,
+                                unsigned flags) {
+  static const auto real = next<void (*)(void (*)(void*), void*, unsigned, long, long, long, unsigned)>(
+      "GOMP_parallel_loop_runtime");
+  ++regions;
+  real(fn, data, threads, start, end, incr, flags);
 }
-void GOMP_loop_end() {
-  static const auto real = next<void (*)()>("GOMP_loop_end");
+void GOMP_parallel_loop_maybe_nonmonotonic_runtime(void (*fn)(void*), void* data, unsigned threads, long start,
+                                                   long end, long incr, unsigned flags) {
+  static const auto real = next<void (*)(void (*)(void*), void*, unsigned, long, long, long, unsigned)>(
+      "GOMP_parallel_loop_maybe_nonmonotonic_runtime");
+  ++regions;
+  real(fn, data, threads, start, end, incr, flags);
+}
+void GOMP_parallel_sections(void (*fn)(void*), void* data, unsigned threads, unsigned count, unsigned flags) {
+  static const auto real = next<void (*)(void (*)(void*), void*, unsigned, unsigned, unsigned)>("GOMP_parallel_sections");
+  ++regions;
+  real(fn, data, threads, count, flags);
+}
+#define TSUCHI_COUNT_END(name)                               \
+  void name() {                                              \
+    static const auto real = next<void (*)()>(#name);        \
+    ++barriers;                                              \
+    real();                                                  \
+  }
+#define TSUCHI_COUNT_END_CANCEL(name)                        \
+  bool name() {                                              \
+    static const auto real = next<bool (*)()>(#name);        \
+    ++barriers;                                              \
+    return real();                                           \
+  }
+TSUCHI_COUNT_END(GOMP_barrier)
+TSUCHI_COUNT_END(GOMP_loop_end)
+TSUCHI_COUNT_END(GOMP_sections_end)
+TSUCHI_COUNT_END_CANCEL(GOMP_barrier_cancel)
+TSUCHI_COUNT_END_CANCEL(GOMP_loop_end_cancel)
+TSUCHI_COUNT_END_CANCEL(GOMP_sections_end_cancel)
+void GOMP_single_copy_end(void* data) {
+  static const auto real = next<void (*)(void*)>("GOMP_single_copy_end");
   ++barriers;
-  real();
+  real(data);
 }
 }
 EOF
@@ -91,8 +134,11 @@ for n in 100 200; do
     exit 2
   fi
   line=$(grep '^omp-count:' "$log" || true)
-  [[ -n $line ]] || { echo "count-omp-regions.sh: $tsuchi made no call into libgomp (not a GCC build?)" >&2; exit 2; }
-  read -r _ _ "regions[$n]" _ "barriers[$n]" <<< "$line"
+  read -r _ _ "regions[$n]" _ "barriers[$n]" <<< "${line:-x x 0 x 0}"
+  if (( regions[$n] == 0 )); then
+    echo "count-omp-regions.sh: $tsuchi made no call into libgomp that was counted (not a GCC build?)" >&2
+    exit 2
+  fi
   # The run's summary: "done: N steps to t = ...".
   steps[$n]=$(sed -n 's/^done: \([0-9]*\) steps.*/\1/p' "$log" | tail -1)
   [[ -n ${steps[$n]} ]] || { echo "count-omp-regions.sh: no summary line (done: N steps) in the run's output:" >&2; cat "$log" >&2; exit 2; }

@@ -37,7 +37,7 @@ shift 2
 [[ -f $input ]] || { echo "count-omp-regions.sh: no input file $input" >&2; exit 2; }
 
 for a in "$@"; do
-  case $a in -j|--threads|-j*|--threads=*) echo "count-omp-regions.sh: do not set --threads: the count is made on one thread" >&2; exit 2;; esac
+  case $a in -j*|--threads|--threads=*) echo "count-omp-regions.sh: do not set --threads: the count is made on one thread" >&2; exit 2;; esac
 done
 tmp=$(mktemp -d) || { echo "count-omp-regions.sh: cannot make a temporary folder" >&2; exit 2; }
 trap 'rm -rf "$tmp"' EXIT
@@ -77,20 +77,14 @@ TSUCHI_COUNT_LOOP(dynamic)
 TSUCHI_COUNT_LOOP(guided)
 TSUCHI_COUNT_LOOP(nonmonotonic_dynamic)
 TSUCHI_COUNT_LOOP(nonmonotonic_guided)
-void GOMP_parallel_loop_runtime(void (*fn)(void*), void* data, unsigned threads, long start, long end, long incr,
-                                unsigned flags) {
-  static const auto real = next<void (*)(void (*)(void*), void*, unsigned, long, long, long, unsigned)>(
-      "GOMP_parallel_loop_runtime");
-  ++regions;
-  real(fn, data, threads, start, end, incr, flags);
-}
-void GOMP_parallel_loop_maybe_nonmonotonic_runtime(void (*fn)(void*), void* data, unsigned threads, long start,
-                                                   long end, long incr, unsigned flags) {
-  static const auto real = next<void (*)(void (*)(void*), void*, unsigned, long, long, long, unsigned)>(
-      "GOMP_parallel_loop_maybe_nonmonotonic_runtime");
-  ++regions;
-  real(fn, data, threads, start, end, incr, flags);
-}
+#define TSUCHI_COUNT_RUNTIME_LOOP(name)                                                                 \
+  void name(void (*fn)(void*), void* data, unsigned threads, long start, long end, long incr, unsigned flags) { \
+    static const auto real = next<void (*)(void (*)(void*), void*, unsigned, long, long, long, unsigned)>(#name); \
+    ++regions;                                                                                          \
+    real(fn, data, threads, start, end, incr, flags);                                                   \
+  }
+TSUCHI_COUNT_RUNTIME_LOOP(GOMP_parallel_loop_runtime)
+TSUCHI_COUNT_RUNTIME_LOOP(GOMP_parallel_loop_maybe_nonmonotonic_runtime)
 void GOMP_parallel_sections(void (*fn)(void*), void* data, unsigned threads, unsigned count, unsigned flags) {
   static const auto real = next<void (*)(void (*)(void*), void*, unsigned, unsigned, unsigned)>("GOMP_parallel_sections");
   ++regions;

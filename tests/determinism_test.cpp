@@ -1,5 +1,6 @@
 // Results do not depend on the number of threads: the coloured block scatter sums every node in
-// one fixed order, so 1 and 2 threads (and repeated runs) give bitwise the same particles.
+// one fixed order, so 1, 2 and 3 threads (and repeated runs) give bitwise the same particles,
+// however the threads' parts of the grid are cut.
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/run/simulation.hpp"
 
@@ -53,13 +54,17 @@ void expect_identical(const Model<2>& a, const Model<2>& b) {
 TEST(Determinism, OneAndTwoThreadsGiveTheSameBits) {
   for (const std::string scheme : {"musl", "usl", "usf"}) {
     SCOPED_TRACE(scheme);
-    const Model<2> one = run(1, scheme), two = run(2, scheme), again = run(2, scheme);
+    // Three threads on the two cores of the team's machine: one is often descheduled, and the
+    // parts follow the measured speeds (grid/thread_shares.hpp), so the blocks change threads
+    // from step to step.
+    const Model<2> one = run(1, scheme), two = run(2, scheme), again = run(2, scheme), three = run(3, scheme);
     // The run did something: the cap moved 0.5 mm.
     double moved = 0.0;
     for (const auto& u : one.particles.u_p) moved = std::max(moved, u.norm());
     EXPECT_GT(moved, 4e-4);
     expect_identical(one, two);
     expect_identical(two, again);
+    expect_identical(one, three);
   }
 }
 

@@ -1,14 +1,18 @@
 // The tiled node storage: every node has one slot, index() and ijk() invert each other, the nodes
 // of a tile are contiguous, and padding slots are recognised as such. The nodal fields. The block
 // schedule: blocks of one colour never write a common node, for any kernel reach, and the active
-// tiles hold every node a particle reaches.
+// tiles hold every node a particle reaches. The threads' parts follow their shares of the
+// particles, colour by colour, and any cut gives the same sums bit for bit; the shares follow the
+// threads' measured speeds.
 #include "tsuchi/grid/block_schedule.hpp"
 #include "tsuchi/grid/grid.hpp"
+#include "tsuchi/grid/thread_shares.hpp"
 
 #include <gtest/gtest.h>
 #include <omp.h>
 
 #include <algorithm>
+#include <cstring>
 #include <random>
 #include <set>
 #include <vector>
@@ -188,6 +192,121 @@ TEST(BlockSchedule, EveryPassTakesEachParticleOnce) {
     }
   }
   omp_set_num_threads(max_threads);
+}
+
+// The crowded particles of EveryPassTakesEachParticleOnce, on its grid.
+std::vector<Vec<2>> crowded_particles(std::size_t n) {
+  std::mt19937_64 rng(11u);
+  std::vector<Vec<2>> x(n);
+  for (auto& p : x) {
+    const double u = std::uniform_real_distribution<double>(0.0, 1.0)(rng), v = std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+    p = Vec<2>(u * u * 20.0, v * v * v * 11.0);
+  }
+  return x;
+}
+
+// Parts cut at uneven shares: in every colour, the run of blocks a thread takes holds its share
+// of that colour's particles to within one block, and the scatter's sums at the nodes (each
+// particle adds to the 3 x 3 nodes around its cell, in an order-sensitive floating sum) are the
+// same bits as one thread's, however the parts are cut.
+TEST(BlockSchedule, AnyCutGivesTheSameSums) {
+  Grid<2> g;
+  g.n_nodes = {41, 23};
+  g.h = 0.5;
+  g.index_axes();
+  const std::vector<Vec<2>> x = crowded_particles(3000);
+  std::vector<double> value(x.size());
+  std::mt19937_64 rng(5u);
+  for (double& a : value) a = std::uniform_real_distribution<double>(-1.0, 1.0)(rng) * 1e3;
+  auto sums = [&](const BlockSchedule<2>& schedule) {
+    std::vector<double> node(g.size(), 0.0);
+    schedule.scatter([&](std::size_t i) {
+      const int ci = static_cast<int>(x[i][0] / g.h), cj = static_cast<int>(x[i][1] / g.h);
+      for (int dj = -1; dj <= 2; ++dj)
+        for (int di = -1; di <= 2; ++di) {
+          const int a = std::clamp(ci + di, 0, g.n_nodes[0] - 1), b = std::clamp(cj + dj, 0, g.n_nodes[1] - 1);
+          node[static_cast<std::size_t>(g.index({a, b}))] += value[i] * (1.0 + 0.1 * di + 0.01 * dj);
+        }
+    });
+    return node;
+  };
+  const int max_threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  BlockSchedule<2> one;
+  one.build(g, x);
+  const std::vector<double> reference = sums(one);
+  omp_set_num_threads(2);
+  for (const std::vector<double>& shares : {std::vector<double>{0.5, 0.5}, {0.2, 0.8}, {0.85, 0.15}}) {
+    BlockSchedule<2> two;
+    two.build(g, x);
+    two.cut_parts(shares);
+    ASSERT_EQ(two.thread_shares(), shares);
+    // Thread 0's share of each colour, from the particles it is handed.
+    const std::size_t colours = two.colour_blocks().size();
+    std::vector<std::int64_t> mine(colours, 0), all(colours, 0);
+    std::int64_t largest_block = 0;
+    for (std::size_t c = 0; c < colours; ++c)
+      for (const std::int32_t b : two.colour_blocks()[c]) {
+        std::int64_t n = 0;
+        for (const Vec<2>& p : x)
+          if (static_cast<int>(p[0] / g.h) / BlockSchedule<2>::B + 10 * (static_cast<int>(p[1] / g.h) / BlockSchedule<2>::B) == b) ++n;
+        all[c] += n;
+        largest_block = std::max(largest_block, n);
+      }
+    std::vector<int> thread_of(x.size(), -1);
+    two.scatter([&](std::size_t i) { thread_of[i] = omp_get_thread_num(); });
+    for (std::size_t c = 0; c < colours; ++c)
+      for (const std::int32_t b : two.colour_blocks()[c])
+        for (std::size_t i = 0; i < x.size(); ++i)
+          if (static_cast<int>(x[i][0] / g.h) / BlockSchedule<2>::B + 10 * (static_cast<int>(x[i][1] / g.h) / BlockSchedule<2>::B) == b &&
+              thread_of[i] == 0)
+            ++mine[c];
+    for (std::size_t c = 0; c < colours; ++c)
+      EXPECT_NEAR(static_cast<double>(mine[c]), shares[0] * static_cast<double>(all[c]), static_cast<double>(largest_block))
+          << "colour " << c << ", shares " << shares[0] << " / " << shares[1];
+    const std::vector<double> got = sums(two);
+    EXPECT_EQ(std::memcmp(got.data(), reference.data(), got.size() * sizeof(double)), 0) << shares[0] << " / " << shares[1];
+  }
+  omp_set_num_threads(max_threads);
+}
+
+// The controller of the shares, fed timings by hand: a thread twice as fast gets two thirds of
+// the particles, the noise of single steps does not recut, a stopped thread keeps its floor.
+TEST(ThreadShares, FollowTheMeasuredSpeeds) {
+  ThreadShares s;
+  s.reset(2);
+  EXPECT_EQ(s.shares(), (std::vector<double>{0.5, 0.5}));
+  EXPECT_FALSE(s.update()) << "nothing timed yet";
+  // Thread 0 takes 1,000 particles in 1 ms, thread 1 the same in 2 ms, step after step.
+  bool recut = false;
+  for (int step = 0; step < 40; ++step) {
+    s.add(0, 1e-3, 1000);
+    s.add(1, 2e-3, 1000);
+    recut = s.update() || recut;
+  }
+  EXPECT_TRUE(recut);
+  EXPECT_NEAR(s.shares()[0], 2.0 / 3.0, 1e-9);
+  EXPECT_NEAR(s.shares()[0] + s.shares()[1], 1.0, 1e-15);
+  // A step that moves the speeds by less than kRecut leaves the cut alone.
+  s.add(0, 1e-3, 1000);
+  s.add(1, 1.9e-3, 1000);
+  EXPECT_FALSE(s.update());
+  EXPECT_NEAR(s.shares()[0], 2.0 / 3.0, 1e-9);
+  // A step in which one thread timed nothing changes nothing.
+  s.add(0, 1e-3, 1000);
+  EXPECT_FALSE(s.update());
+  // A thread all but stopped keeps about a quarter of the even share (the floor, then the shares
+  // scaled to sum 1), to within the hysteresis kRecut.
+  for (int step = 0; step < 60; ++step) {
+    s.add(0, 1e-3, 1000);
+    s.add(1, 1.0, 1000);
+    s.update();
+  }
+  EXPECT_NEAR(s.shares()[1], ThreadShares::kFloor * 0.5 / (1.0 + ThreadShares::kFloor * 0.5), ThreadShares::kRecut);
+  // A new thread count starts afresh.
+  s.reset(3);
+  EXPECT_EQ(s.shares().size(), 3u);
+  EXPECT_NEAR(s.shares()[2], 1.0 / 3.0, 1e-15);
 }
 
 TEST(BlockSchedule, ColoursAndActiveTilesFollowTheReach) {

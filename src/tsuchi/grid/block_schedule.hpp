@@ -17,10 +17,12 @@
 // under its block, then, only if some particle changed block, a counting sort of the particle
 // indices (8 bytes per particle in all).
 #include "tsuchi/grid/grid.hpp"
+#include "tsuchi/grid/thread_shares.hpp"
 
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -67,7 +69,8 @@ class BlockSchedule {
   // same part in every pass of a step, so a particle's data and most of its nodes stay in one
   // core's cache from pass to pass: on a host whose cores are far apart (a cache line took
   // 200 ns to cross between the two vCPUs of the team's machine) that matters more than handing
-  // out blocks on demand.
+  // out blocks on demand. The parts follow the threads' measured speeds (thread_shares.hpp), so
+  // that a slower core does not keep the others waiting at every colour.
   template <class F>
   void scatter(F&& f) const {
 #pragma omp parallel
@@ -77,7 +80,7 @@ class BlockSchedule {
         if (c > 0) {
 #pragma omp barrier
         }
-        run_blocks(c, part, f);
+        timed_blocks(c, c + 1, part, f);
       }
     }
   }
@@ -87,17 +90,16 @@ class BlockSchedule {
   // particle writes only its own data. Must be reached by every thread of the region.
   template <class F>
   void for_each_particle_in_region(F&& f) const {
-    const Part part = my_part();
-    for (std::size_t c = 0; c < colour_blocks_.size(); ++c) run_blocks(c, part, f);
+    timed_blocks(0, colour_blocks_.size(), my_part(), f);
   }
 
   // For a pass of uneven cost per particle (the stress update: a yielding point costs several
   // times an elastic one, and they gather in shear bands): each thread takes its own part's blocks
-  // first, one at a time and in order, then helps the others with what is left of theirs, so
-  // that only the particles it takes over change cores. begin_balanced(passes) resets the
-  // counters of that many passes before the enclosing parallel region; every thread of the region
-  // then calls this with the same pass numbers. Each particle's update is its own, so which
-  // thread takes it changes no result.
+  // first, colour by colour, one block at a time and in order, then helps the others with what is
+  // left of theirs, so that only the particles it takes over change cores. begin_balanced(passes)
+  // resets the counters of that many passes before the enclosing parallel region; every thread of
+  // the region then calls this with the same pass numbers. Each particle's update is its own, so
+  // which thread takes it changes no result.
   void begin_balanced(std::size_t passes) const;
   template <class F>
   void for_each_particle_balanced(std::size_t pass, F&& f) const {
@@ -106,15 +108,20 @@ class BlockSchedule {
       for_each_particle_in_region(f);
       return;
     }
-    std::atomic<std::size_t>* next = next_.get() + pass * part.threads;
+    const std::size_t colours = colour_blocks_.size();
+    Counter* next = next_.get() + pass * part.threads * colours;
     for (std::size_t o = 0; o < part.threads; ++o) {
       const std::size_t t = (part.thread + o) % part.threads;
-      const std::size_t first = block_cut_[t], last = block_cut_[t + 1];
-      for (;;) {
-        const std::size_t k = first + next[t].fetch_add(1, std::memory_order_relaxed);
-        if (k >= last) break;
-        const std::int32_t b = blocks_in_order_[k];
-        for (std::int64_t j = start_[b]; j < start_[b + 1]; ++j) f(static_cast<std::size_t>(order_[j]));
+      for (std::size_t c = 0; c < colours; ++c) {
+        const auto& blocks = colour_blocks_[c];
+        const std::size_t* cut = colour_cut_.data() + c * (part.threads + 1);
+        const std::size_t first = cut[t], last = cut[t + 1];
+        for (;;) {
+          const std::size_t k = first + next[t * colours + c].taken.fetch_add(1, std::memory_order_relaxed);
+          if (k >= last) break;
+          const std::int32_t b = blocks[k];
+          for (std::int64_t j = start_[b]; j < start_[b + 1]; ++j) f(static_cast<std::size_t>(order_[j]));
+        }
       }
     }
   }
@@ -160,11 +167,22 @@ class BlockSchedule {
     return std::binary_search(active_tiles_.begin(), active_tiles_.end(), static_cast<std::int32_t>(k / Grid<D>::kTileNodes));
   }
 
+  // Each thread's fraction of the particles in the parts now cut (sums to 1).
+  const std::vector<double>& thread_shares() const { return shares_.shares(); }
+  // Cuts the parts at the given fractions (one per thread of the team the schedule was built
+  // for, summing to 1) until the measured speeds move them: for tests, which check that any cut
+  // gives the same results.
+  void cut_parts(const std::vector<double>& shares) {
+    shares_.set(shares);
+    partition(threads_, tiles_);
+  }
+
  private:
-  // A thread's part of the grid: a run of blocks in index order, cut where the particle count
-  // reaches t / threads of the whole (block indices run along x, then y, then z, so a part is a
-  // slab; partition()); kept as positions in each colour's list (colour_cut_), in
-  // blocks_in_order_ (block_cut_) and in active_tiles_ (tile_cut_).
+  // A thread's part of the grid: in each colour, a run of that colour's blocks in index order,
+  // cut where the colour's particle count reaches the thread's share (block indices run along x,
+  // then y, then z, so a part is a slab; partition()); kept as positions in each colour's list
+  // (colour_cut_), and for the node loops as positions in active_tiles_ (tile_cut_), cut where the
+  // particles of all colours reach the share.
   // A region of another thread count than the parts were cut for (a nested one) splits each
   // list evenly instead: blocks of one colour write disjoint nodes, so any split gives the same sums.
   struct Part {
@@ -173,30 +191,50 @@ class BlockSchedule {
     std::size_t first_tile = 0, last_tile = 0;
   };
   Part my_part() const;
+  // The part's blocks of one colour; returns how many particles they hold.
   template <class F>
-  void run_blocks(std::size_t colour, const Part& part, F& f) const {
+  std::int64_t run_blocks(std::size_t colour, const Part& part, F& f) const {
     const auto& blocks = colour_blocks_[colour];
     std::size_t lo = blocks.size() * part.thread / part.threads, hi = blocks.size() * (part.thread + 1) / part.threads;
     if (part.cut) {
       const std::size_t* cut = colour_cut_.data() + colour * (part.threads + 1);
       lo = cut[part.thread], hi = cut[part.thread + 1];
     }
+    std::int64_t n = 0;
     for (std::size_t k = lo; k < hi; ++k) {
       const std::int32_t b = blocks[k];
+      n += start_[b + 1] - start_[b];
       for (std::int64_t j = start_[b]; j < start_[b + 1]; ++j) f(static_cast<std::size_t>(order_[j]));
     }
+    return n;
+  }
+  // Colours [first, last) of the part, timed for the shares when the parts were cut for a team of
+  // several (two clock reads, about 30 ns each, per call).
+  template <class F>
+  void timed_blocks(std::size_t first, std::size_t last, const Part& part, F& f) const {
+    using clock = std::chrono::steady_clock;
+    const bool timed = part.cut && part.threads > 1;
+    const clock::time_point start = timed ? clock::now() : clock::time_point{};
+    std::int64_t n = 0;
+    for (std::size_t c = first; c < last; ++c) n += run_blocks(c, part, f);
+    if (timed) shares_.add(part.thread, std::chrono::duration<double>(clock::now() - start).count(), n);
   }
   void partition(int threads, const std::array<int, D>& tiles);
 
   int threads_ = 0;                             // the thread count the parts were cut for
   std::vector<std::size_t> colour_cut_;         // per colour, per thread + 1: positions in its list
   std::vector<std::size_t> tile_cut_;           // per thread + 1: positions in active_tiles_
-  std::vector<std::int32_t> blocks_in_order_;   // the non-empty blocks, increasing
-  std::vector<std::size_t> block_cut_;          // per thread + 1: positions in blocks_in_order_
-  mutable std::unique_ptr<std::atomic<std::size_t>[]> next_;  // per balanced pass and part: blocks taken
+  // Blocks taken from one part of one colour in a balanced pass; a cache line each, as two threads
+  // take from their own counters at once.
+  struct alignas(64) Counter {
+    std::atomic<std::size_t> taken{0};
+  };
+  mutable std::unique_ptr<Counter[]> next_;     // per balanced pass, part and colour
   mutable std::size_t next_size_ = 0;
   bool valid_ = false;                          // built, and the particles not reordered since
   std::array<int, D> blocks_{};
+  std::array<int, D> tiles_{};                  // the grid's tiles per axis
+  ThreadShares shares_;                         // each thread's fraction of the particles
   Reach reach_{};
   std::vector<std::int32_t> block_of_;          // per particle
   std::vector<std::int64_t> start_;             // per block: first entry in order_, plus a sentinel

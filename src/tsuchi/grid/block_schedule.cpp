@@ -112,31 +112,19 @@ void BlockSchedule<D>::partition(int threads, const std::array<int, D>& tiles) {
     const auto target = static_cast<std::int64_t>(std::llround(before * static_cast<double>(n)));
     bound[t] = std::lower_bound(start_.begin(), start_.end() - 1, target) - start_.begin();
   }
-  // Each colour's list is cut on its own, at the same fractions of that colour's particles: a
-  // scatter waits at the end of every colour, so what must be even is each colour's work, not only
-  // the sum (in the triaxial specimen, one cut of the whole left a thread 14 % above its share in
-  // each colour). The cut falls at the block boundary nearest the target; the parts stay runs of
-  // each list, so a thread still takes one slab of the grid, give or take a block.
+  blocks_in_order_.clear();
+  for (std::int64_t b = 0; b < n_blocks; ++b)
+    if (start_[b + 1] > start_[b]) blocks_in_order_.push_back(static_cast<std::int32_t>(b));
+  block_cut_.resize(T + 1);
+  for (std::size_t t = 0; t <= T; ++t)
+    block_cut_[t] = static_cast<std::size_t>(
+        std::lower_bound(blocks_in_order_.begin(), blocks_in_order_.end(), bound[t]) - blocks_in_order_.begin());
   colour_cut_.assign(colour_blocks_.size() * (T + 1), 0);
   for (std::size_t c = 0; c < colour_blocks_.size(); ++c) {
     const auto& list = colour_blocks_[c];
-    std::size_t* cut = colour_cut_.data() + c * (T + 1);
-    std::int64_t n_c = 0;
-    for (const std::int32_t b : list) n_c += start_[b + 1] - start_[b];
-    std::size_t k = 0;
-    std::int64_t sum = 0;  // particles in list[0, k)
-    double share = 0.0;
-    for (std::size_t t = 1; t < T; ++t) {
-      share += shares_.shares()[t - 1];
-      const double target = share * static_cast<double>(n_c);
-      while (k < list.size()) {
-        const std::int64_t next = sum + start_[list[k] + 1] - start_[list[k]];
-        if (static_cast<double>(next) - target > target - static_cast<double>(sum)) break;
-        sum = next, ++k;
-      }
-      cut[t] = k;
-    }
-    cut[T] = list.size();
+    for (std::size_t t = 0; t <= T; ++t)
+      colour_cut_[c * (T + 1) + t] =
+          static_cast<std::size_t>(std::lower_bound(list.begin(), list.end(), bound[t]) - list.begin());
   }
   // The tile of block b has the same coordinates; tiles run in the same axis order, so block
   // order is tile order.
@@ -160,7 +148,7 @@ void BlockSchedule<D>::partition(int threads, const std::array<int, D>& tiles) {
 
 template <int D>
 void BlockSchedule<D>::begin_balanced(std::size_t passes) const {
-  const std::size_t n = passes * static_cast<std::size_t>(std::max(threads_, 1)) * colour_blocks_.size();
+  const std::size_t n = passes * static_cast<std::size_t>(std::max(threads_, 1));
   if (n > next_size_) next_ = std::make_unique<Counter[]>(n), next_size_ = n;
   for (std::size_t k = 0; k < n; ++k) next_[k].taken.store(0, std::memory_order_relaxed);
 }

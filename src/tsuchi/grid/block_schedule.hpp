@@ -95,11 +95,11 @@ class BlockSchedule {
 
   // For a pass of uneven cost per particle (the stress update: a yielding point costs several
   // times an elastic one, and they gather in shear bands): each thread takes its own part's blocks
-  // first, colour by colour, one block at a time and in order, then helps the others with what is
-  // left of theirs, so that only the particles it takes over change cores. begin_balanced(passes)
-  // resets the counters of that many passes before the enclosing parallel region; every thread of
-  // the region then calls this with the same pass numbers. Each particle's update is its own, so
-  // which thread takes it changes no result.
+  // first, one at a time and in order, then helps the others with what is left of theirs, so
+  // that only the particles it takes over change cores. begin_balanced(passes) resets the
+  // counters of that many passes before the enclosing parallel region; every thread of the region
+  // then calls this with the same pass numbers. Each particle's update is its own, so which
+  // thread takes it changes no result.
   void begin_balanced(std::size_t passes) const;
   template <class F>
   void for_each_particle_balanced(std::size_t pass, F&& f) const {
@@ -108,20 +108,15 @@ class BlockSchedule {
       for_each_particle_in_region(f);
       return;
     }
-    const std::size_t colours = colour_blocks_.size();
-    Counter* next = next_.get() + pass * part.threads * colours;
+    Counter* next = next_.get() + pass * part.threads;
     for (std::size_t o = 0; o < part.threads; ++o) {
       const std::size_t t = (part.thread + o) % part.threads;
-      for (std::size_t c = 0; c < colours; ++c) {
-        const auto& blocks = colour_blocks_[c];
-        const std::size_t* cut = colour_cut_.data() + c * (part.threads + 1);
-        const std::size_t first = cut[t], last = cut[t + 1];
-        for (;;) {
-          const std::size_t k = first + next[t * colours + c].taken.fetch_add(1, std::memory_order_relaxed);
-          if (k >= last) break;
-          const std::int32_t b = blocks[k];
-          for (std::int64_t j = start_[b]; j < start_[b + 1]; ++j) f(static_cast<std::size_t>(order_[j]));
-        }
+      const std::size_t first = block_cut_[t], last = block_cut_[t + 1];
+      for (;;) {
+        const std::size_t k = first + next[t].taken.fetch_add(1, std::memory_order_relaxed);
+        if (k >= last) break;
+        const std::int32_t b = blocks_in_order_[k];
+        for (std::int64_t j = start_[b]; j < start_[b + 1]; ++j) f(static_cast<std::size_t>(order_[j]));
       }
     }
   }
@@ -178,11 +173,10 @@ class BlockSchedule {
   }
 
  private:
-  // A thread's part of the grid: in each colour, a run of that colour's blocks in index order,
-  // cut where the colour's particle count reaches the thread's share (block indices run along x,
-  // then y, then z, so a part is a slab; partition()); kept as positions in each colour's list
-  // (colour_cut_), and for the node loops as positions in active_tiles_ (tile_cut_), cut where the
-  // particles of all colours reach the share.
+  // A thread's part of the grid: a run of blocks in index order, cut where the particle count
+  // reaches the thread's share (thread_shares.hpp; block indices run along x, then y, then z, so a
+  // part is a slab; partition()); kept as positions in each colour's list (colour_cut_), in
+  // blocks_in_order_ (block_cut_) and in active_tiles_ (tile_cut_).
   // A region of another thread count than the parts were cut for (a nested one) splits each
   // list evenly instead: blocks of one colour write disjoint nodes, so any split gives the same sums.
   struct Part {
@@ -224,12 +218,14 @@ class BlockSchedule {
   int threads_ = 0;                             // the thread count the parts were cut for
   std::vector<std::size_t> colour_cut_;         // per colour, per thread + 1: positions in its list
   std::vector<std::size_t> tile_cut_;           // per thread + 1: positions in active_tiles_
-  // Blocks taken from one part of one colour in a balanced pass; a cache line each, as two threads
-  // take from their own counters at once.
+  std::vector<std::int32_t> blocks_in_order_;   // the non-empty blocks, increasing
+  std::vector<std::size_t> block_cut_;          // per thread + 1: positions in blocks_in_order_
+  // Blocks taken from one part in a balanced pass; a cache line each, as every thread takes from
+  // its own counter at once.
   struct alignas(64) Counter {
     std::atomic<std::size_t> taken{0};
   };
-  mutable std::unique_ptr<Counter[]> next_;     // per balanced pass, part and colour
+  mutable std::unique_ptr<Counter[]> next_;     // per balanced pass and part
   mutable std::size_t next_size_ = 0;
   bool valid_ = false;                          // built, and the particles not reordered since
   std::array<int, D> blocks_{};

@@ -78,6 +78,7 @@ frames = false
 
 struct Figures {
   double rate = 0.0, best_rate = 0.0, wall_per_step = 0.0, bytes_per_particle = 0.0;
+  std::vector<double> shares;  // each thread's fraction of the particles at the end (thread_shares.hpp)
 };
 
 // Times `steps` steps after one warm-up step on `threads` threads, in five batches: the figures
@@ -99,7 +100,8 @@ Figures time_steps(Model<D>& m, int steps, int threads) {
   std::sort(walls.begin(), walls.end());
   const double n = static_cast<double>(m.particles.size());
   const double median = walls[kBatches / 2] / per_batch;
-  return {n / median, n / (walls.front() / per_batch), median, static_cast<double>(m.bytes()) / n};
+  return {n / median, n / (walls.front() / per_batch), median, static_cast<double>(m.bytes()) / n,
+          solver.schedule().thread_shares()};
 }
 
 double peak_rss_mb() {
@@ -113,6 +115,10 @@ void report(const std::string& name, std::size_t particles, int threads, const F
              "  {:5.0f} bytes/particle  peak RSS {:.0f} MB\n",
              name, particles, threads, threads > 1 ? "s" : " ", f.rate, f.best_rate, 1e3 * f.wall_per_step,
              f.bytes_per_particle, peak_rss_mb());
+  // How the threads' parts ended: far from even, one core ran slower than the others (another
+  // process, a busy host, an efficiency core), and the multi-thread figure says as much about it.
+  if (threads > 1 && f.shares.size() == static_cast<std::size_t>(threads))
+    fmt::print("{:<34} thread parts at the end: {:.2f}\n", "", fmt::join(f.shares, " / "));
 }
 
 template <int D>

@@ -75,6 +75,8 @@ class ExplicitSolver {
   std::int64_t released_particles() const { return released_; }
   // The contact stage of the latest step: where contact acted, its normals and forces, the walls' forces.
   const ContactStage<D>& contact() const { return contact_; }
+  // The particle schedule of the latest step: its threads' parts and their shares (benchmarks).
+  const BlockSchedule<D>& schedule() const { return schedule_; }
   // The grid nodes where contact acted in the latest step, in storage order (the same on any
   // thread count): position, the normal from the lowest body field there towards the others (a
   // wall's outward normal at a wall), the contact force on that field (N; N/m in 2D), and what

@@ -25,6 +25,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 namespace tsuchi {
@@ -168,6 +169,8 @@ class BlockSchedule {
   // for, summing to 1) until the measured speeds move them: for tests, which check that any cut
   // gives the same results.
   void cut_parts(const std::vector<double>& shares) {
+    if (shares.size() != static_cast<std::size_t>(threads_))
+      throw std::invalid_argument("BlockSchedule::cut_parts: one share per thread of the team it was built for");
     shares_.set(shares);
     partition(threads_, tiles_);
   }

@@ -7,6 +7,7 @@
 
 #include <numbers>
 #include <random>
+#include <tuple>
 #include <utility>
 
 namespace {
@@ -290,6 +291,62 @@ TEST(MohrCoulomb, ElasticStateIsLeftUntouched) {
   PlasticPoint st;
   EXPECT_EQ(m.correct<2>(sig, m.strength(), st), YieldMode::Elastic);
   for (int i = 0; i < 4; ++i) EXPECT_EQ(sig[i], before[i]);
+}
+
+// The 3D pre-check from the invariants (MohrCoulomb::surely_elastic) skips the principal frame only
+// for stresses the frame's values also find inside both surfaces: over 200,000 random stresses in
+// random orientations, from deep inside to far outside, for three strengths, not one is passed that
+// yields, and correct() leaves every passed stress untouched. It is not empty either: an isotropic
+// stress is decided exactly (its bounds are exact), and of the random stresses inside by more than
+// a quarter of the shear room most pass.
+TEST(MohrCoulomb, InvariantPreCheckPassesNoYieldingStress) {
+  std::mt19937 rng(2026);
+  std::uniform_real_distribution<double> mean(-400 * kPa, 20 * kPa), unit(-1.0, 1.0), size(0.0, 1.0);
+  for (auto [phi, c, t] : {std::tuple{30.5, 8.5, 0.0}, std::tuple{40.0, 0.0, 0.0}, std::tuple{20.0, 30.0, 4.0}}) {
+    MohrCoulomb m = soil();
+    m.phi = deg(phi), m.cohesion = c * kPa, m.tension = t * kPa;
+    const auto s = m.strength();
+    int passed = 0, deep = 0, deep_passed = 0;
+    for (int k = 0; k < 200000; ++k) {
+      // Principal values about a mean, with a deviator up to 1.5 times the shear strength there.
+      const double sm = mean(rng);
+      const double room = std::max(0.0, sm * (1 - s.N_phi) + 2 * s.c * s.sqrt_N_phi) / (1 + s.N_phi);
+      Eigen::Vector3d dev(unit(rng), unit(rng), unit(rng));
+      dev.array() -= dev.mean();
+      if (dev.norm() > 0) dev *= 1.5 * room * size(rng) / dev.norm();
+      const Eigen::Quaterniond q(Eigen::Vector4d(unit(rng), unit(rng), unit(rng), unit(rng)).normalized());
+      const Mat3 R = q.toRotationMatrix();
+      const Voigt<3> sig = to_voigt<3>(R * (dev.array() + sm).matrix().asDiagonal() * R.transpose());
+      const Eigen::Vector3d p = PrincipalFrame<3>(sig).values;
+      const double f_s = MohrCoulomb::shear_yield(p, s), f_t = s.sigma_t - p[2];
+      const bool sure = MohrCoulomb::surely_elastic(sig, s);
+      if (sure) {
+        ++passed;
+        ASSERT_GE(f_s, 0.0) << "k = " << k;
+        ASSERT_GE(f_t, 0.0) << "k = " << k;
+        Voigt<3> after = sig;
+        PlasticPoint st;
+        ASSERT_EQ(m.correct<3>(after, s, st), YieldMode::Elastic);
+        ASSERT_EQ(after, sig);
+      }
+      if (f_s > 0.25 * 2 * s.c * s.sqrt_N_phi + 0.25 * std::abs(sm) * (s.N_phi - 1) && f_t > 0.25 * std::abs(sm)) {
+        ++deep;
+        deep_passed += sure;
+      }
+    }
+    EXPECT_GT(passed, 20000) << "phi = " << phi;
+    EXPECT_GT(deep_passed, deep / 2) << "phi = " << phi << ": " << deep_passed << " of " << deep;
+    // Isotropic stresses: passed exactly where they are inside, up to the 1e-12 margin.
+    const double apex = s.N_phi > 1 ? 2 * s.c * s.sqrt_N_phi / (s.N_phi - 1) : 0.0;  // f_s = 0 there
+    const double corner = std::min(apex, s.sigma_t);
+    for (double x : {-1e6, -1e4, -1.0}) {
+      Voigt<3> iso;
+      iso << corner + x, corner + x, corner + x, 0, 0, 0;
+      EXPECT_TRUE(MohrCoulomb::surely_elastic(iso, s)) << "phi = " << phi << ", " << x << " Pa inside";
+      iso.head<3>().setConstant(corner + 1e-3);
+      EXPECT_FALSE(MohrCoulomb::surely_elastic(iso, s)) << "phi = " << phi << ", 1e-3 Pa outside";
+    }
+  }
 }
 
 // The plane-strain frame rebuilds the tensor exactly, also when sigma_zz ties an in-plane value.

@@ -15,10 +15,18 @@ inline void jaumann_rotate(Voigt<2>& s, const Mat<2>& dw) {
   // sigma_zz is unchanged: the spin is about z.
 }
 
+// With sigma symmetric and d_omega antisymmetric (exactly: its entries are 0.5 dt (L_ij - L_ji)),
+// sigma d_omega = -(d_omega sigma)^T term by term, so one product X = d_omega sigma gives both:
+// r_ij = (sigma_ij + X_ij) + X_ji, and the stored component is the mean of r_ij and r_ji, as the
+// full form m + dw m - m dw followed by symmetrisation gave, to the bit, at half the products.
 inline void jaumann_rotate(Voigt<3>& s, const Mat<3>& dw) {
   const Mat3 m = to_matrix<3>(s);
-  const Mat3 r = m + dw * m - m * dw;
-  s = to_voigt<3>(r);
+  const Mat3 X = dw * m;
+  for (int k = 0; k < 6; ++k) {
+    const auto [i, j] = voigt_index[static_cast<std::size_t>(k)];
+    const double rij = (m(i, j) + X(i, j)) + X(j, i), rji = (m(j, i) + X(j, i)) + X(i, j);
+    s[k] = 0.5 * (rij + rji);
+  }
 }
 
 }  // namespace tsuchi

@@ -85,12 +85,14 @@ class NodalAverage {
   std::size_t slot_offset(int field, std::size_t slot) const {
     return (static_cast<std::size_t>(field) * slots_ + slot) * size_;
   }
+  // Every field's and slot's sums at the active nodes, in one parallel region (a region per slot
+  // cost a fork and a join each, two per step per material).
   template <class F> void for_fields(const BlockSchedule<D>& schedule, F&& f) {
-    for (int field = first_; field <= last_; ++field)
-      for (std::size_t slot = 0; slot < slots_; ++slot) {
-        const std::size_t o = slot_offset(field, slot);
-        schedule.for_active_nodes([&](std::int64_t k) { f(sum_[o + static_cast<std::size_t>(k)]); });
-      }
+    if (slots_ == 0) return;
+    const std::size_t first = slot_offset(first_, 0), count = static_cast<std::size_t>(last_ - first_ + 1) * slots_;
+    schedule.for_active_nodes([&](std::int64_t k) {
+      for (std::size_t j = 0; j < count; ++j) f(sum_[first + j * size_ + static_cast<std::size_t>(k)]);
+    });
   }
 
   std::vector<NodalAveragePair> sum_;  // per field, slot and node

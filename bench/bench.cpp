@@ -9,7 +9,9 @@
 //     geometry as a 3D slab one cell thick, 6,000 particles), the cases the team times beside
 //     CB-Geo and MPM-Geomechanics, each read, built and run for its 2,000 steps as `tsuchi run`
 //     does with output off; the figure counts every second from reading the input to the end,
-//     and the share of it spent outside the steps (start-up) is reported beside it.
+//     and the share of it spent outside the steps (start-up) is reported beside it. And
+//     cylinder_3d.toml (the 3D triaxial example, 13,860 particles, 500 steps): a confined 3D
+//     specimen whose points are mostly inside the yield surface, as in most 3D models.
 //   - the host's price of a parallel stage (--sync, and at the end of a full run): an empty
 //     parallel region (fork and join) and a barrier, on every core. Each step pays a fixed number
 //     of both (scripts/count-omp-regions.sh counts them), whatever the particle loops cost.
@@ -203,6 +205,7 @@ void whole_runs(const std::vector<int>& threads) {
   const std::string dir = std::string(TSUCHI_SOURCE_DIR) + "/bench/cases/";
   for (int t : threads) whole_run<2>(dir + "triaxial_2d.toml", "whole run: triaxial geometry, 2D", t);
   for (int t : threads) whole_run<3>(dir + "slab_3d.toml", "whole run: triaxial geometry, 3D slab", t);
+  for (int t : threads) whole_run<3>(dir + "cylinder_3d.toml", "whole run: 3D cylinder, 50 kPa", t);
 }
 
 // Microseconds per empty parallel region and per barrier on `threads` threads: the median of

@@ -10,7 +10,7 @@
 //     CB-Geo and MPM-Geomechanics, each read, built and run for its 2,000 steps as `tsuchi run`
 //     does with output off; the figure counts every second from reading the input to the end,
 //     and the share of it spent outside the steps (start-up) is reported beside it. And
-//     cylinder_3d.toml (the 3D triaxial example, 13,860 particles, 500 steps): a confined 3D
+//     cylinder_3d.toml (the 3D triaxial example, 13,904 particles, 500 steps): a confined 3D
 //     specimen whose points are mostly inside the yield surface, as in most 3D models.
 //   - the host's price of a parallel stage (--sync, and at the end of a full run): an empty
 //     parallel region (fork and join) and a barrier, on every core. Each step pays a fixed number

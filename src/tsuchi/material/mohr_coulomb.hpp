@@ -160,10 +160,9 @@ struct MohrCoulomb {
   // values say so too: the same bits, the frame skipped. In a confined 3D specimen most points are
   // inside most of the time, and the frame (Eigen's iterative eigen-solver) was a fifth of the step.
   static bool surely_elastic(const Voigt<3>& t, const Strength& s) {
-    const double m = (t[0] + t[1] + t[2]) / 3.0;
-    const double a = t[0] - m, b = t[1] - m, c = t[2] - m;
-    const double J2 = 0.5 * (a * a + b * b + c * c) + t[3] * t[3] + t[4] * t[4] + t[5] * t[5];
-    const double r = std::sqrt(J2);
+    const double m = trace<3>(t) / 3.0;
+    const Voigt<3> dev = deviator<3>(t);
+    const double r = std::sqrt(0.5 * contract<3>(dev, dev));  // sqrt J2
     constexpr double k = 2.0 / std::numbers::sqrt3;
     const double N = s.N_phi, shear_room = 2.0 * s.c * s.sqrt_N_phi;
     const double tol = 1e-12 * (std::abs(m) * (1.0 + N) + r * (2.0 + k * N) + shear_room + std::abs(s.sigma_t));

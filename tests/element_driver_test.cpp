@@ -100,6 +100,44 @@ TEST(ElementDriver, TriaxialCompressionPeakIsMohrCoulomb) {
   }
 }
 
+// A triaxial cell is symmetric about its axis, so eps_xx = eps_zz. At Mohr-Coulomb's triaxial
+// compression edge (the two lateral principal stresses equal) the plastic flow lambda_a g_a +
+// lambda_b g_b may split between x and z in any proportion without changing the stress; the driver
+// ties eps_zz to eps_xx (element_driver.cpp), which picks the symmetric split lambda_a = lambda_b.
+// Past the peak the stress is constant, the strain increments are plastic, and each lateral one is
+//   d eps_lateral / d eps_axial = -N_psi / 2,     N_psi = (1 + sin psi) / (1 - sin psi).
+// Before the tie, psi = 5 deg gave eps_xx 0.0227 against eps_zz 0.0299 at 5 % axial strain.
+TEST(ElementDriver, TriaxialCompressionFlowsAlikeInBothLateralDirections) {
+  for (const double psi : {0.0, 5.0, 30.0}) {
+    const auto rows = drive(read(fmt::format(R"([[materials]]
+name = "sand"
+model = "mohr_coulomb"
+density = 1800.0
+youngs_modulus = 20.0e6
+poisson_ratio = 0.3
+cohesion = 10.0e3
+friction_angle = 30.0
+dilatancy_angle = {}
+
+[test]
+type = "triaxial_compression"
+confining_pressure = 100e3
+axial_strain = 0.05
+increments = 500
+)",
+                                             psi)));
+    ASSERT_EQ(rows.size(), 501u);
+    for (const auto& r : rows) ASSERT_EQ(r.strain[0], r.strain[2]) << "psi " << psi << ", increment " << r.increment;
+    const double s = std::sin(psi * std::numbers::pi / 180.0), N_psi = (1.0 + s) / (1.0 - s);
+    const ElementRow &a = rows[300], &b = rows[500];  // both well past the peak (about increment 118)
+    ASSERT_EQ(a.mode, YieldMode::Shear);
+    const double ratio = (b.strain[0] - a.strain[0]) / (b.strain[1] - a.strain[1]);
+    std::printf("psi %4.1f deg: eps_xx = eps_zz = %.6f at 5 %%, d eps_lat / d eps_ax %.9f, -N_psi/2 %.9f\n", psi,
+                b.strain[0], ratio, -0.5 * N_psi);
+    EXPECT_NEAR(ratio, -0.5 * N_psi, 1e-9 * N_psi) << "psi " << psi;
+  }
+}
+
 TEST(ElementDriver, PlaneStrainCompressionPeakIsMohrCoulomb) {
   for (double p : {10 * kPa, 50 * kPa, 100 * kPa}) {
     const auto rows = drive(read(compression_test("plane_strain_compression", p)));

@@ -196,6 +196,36 @@ TEST(Restart, FramesByRecorderContinueBitwise) {
   EXPECT_GE(frames, 5u) << pvd;  // t = 0, every 0.2 % of axial strain, and the end
 }
 
+// A run that ended at its time.end, restarted from its end-of-run checkpoint with a later
+// time.end (docs/input.md, [checkpoint]). The first end, 0.3 s, is the third frame time of an
+// interval of 0.1 s, which in doubles is 3 * 0.1 = 0.30000000000000004: the first run must stop
+// where a run to the later end passes (on the frame time, not 1 ulp short of it), or the restart
+// takes a sliver of a step of 5.6e-17 s to reach the frame, writes that frame twice and drifts.
+TEST(Restart, LaterEndFromAFrameTimeContinuesBitwise) {
+  TempDir tmp("tsuchi_restart");
+  write_file(tmp.path / "column.toml", elastic_input);
+  const auto run = [&](const fs::path& out, double end, bool restart) {
+    std::string a = "run -q " + quoted(tmp.path / "column.toml") + " -o " + quoted(out) +
+                    " --set output.interval=0.1 --set checkpoint.every_steps=1000000 --set time.end=" + fmt::format("{}", end);
+    if (restart) a += " --restart " + quoted(out / "checkpoint.tsuchi");
+    const ProgramResult r = run_program(a);
+    EXPECT_EQ(r.status, exit_code::ok) << r.output;
+  };
+  const fs::path whole = tmp.path / "whole", parts = tmp.path / "parts";
+  run(whole, 0.6, false);
+  run(parts, 0.3, false);
+  const std::string first_end = read_bytes(parts / "checkpoint.tsuchi");
+  run(parts, 0.6, true);
+  const auto x = snapshot(whole), y = snapshot(parts);
+  ASSERT_GT(x.size(), 8u);  // 7 frames, the .pvd, global.csv, recorders.csv, the checkpoint
+  for (const auto& [name, bytes] : x) {
+    ASSERT_TRUE(y.count(name)) << name << " is missing after the restart";
+    EXPECT_TRUE(y.at(name) == bytes) << name << " differs after the restart";
+  }
+  EXPECT_EQ(x.size(), y.size()) << "the restart wrote a frame the whole run did not";
+  EXPECT_NE(first_end, x.at("checkpoint.tsuchi"));
+}
+
 class RefusedRestart : public ::testing::Test {
  protected:
   void SetUp() override {

@@ -61,15 +61,47 @@ struct Where {
   }
 };
 
+// Voigt slots of the components the axisymmetric tie below relates.
+constexpr int kXX = 0, kZZ = 2, kXY = 3, kYZ = 4;
+
 // One increment under mixed control: the driven strain components are known, the others must be
 // found so that the updated stress meets `target` on them.
+//
+// Axisymmetric tie: a segment that controls sigma_xx and sigma_zz alike (and xy, yz alike), started
+// from a state symmetric under the swap of x and z (sigma_xx = sigma_zz, sigma_xy = sigma_yz), is
+// a test with cylindrical symmetry about y, as a triaxial cell is. Its solution has eps_zz =
+// eps_xx, but at an edge of a yield surface with corners (Mohr-Coulomb's triaxial edge, where the
+// two lateral principal stresses are equal) the lateral plastic flow may split between x and z in
+// any proportion without changing the stress: Newton's method on eps_xx and eps_zz apart then
+// picks a split that depends on round-off (eps_xx 0.023 against eps_zz 0.030 at 5 % axial strain,
+// with q and the dilatancy ratio right). Tied, eps_zz follows eps_xx and the one unknown meets the mean
+// of sigma_xx and sigma_zz, which the symmetric state holds equal.
 struct MixedIncrement {
   Voigt<3> given = Voigt<3>::Zero();  // strain increment of the driven components (others 0)
   std::array<int, n_components> unknown{};
   std::array<bool, n_components> held{};  // of each unknown: held at its start value, not loaded
   int m = 0;
+  bool tied = false;  // eps_zz = eps_xx, xx's residual on the mean of sigma_xx and sigma_zz
   VecU target;
+
+  // What an unknown's residual measures, and how the strain it solves for spreads: for the tied
+  // xx, half of xx's and zz's stress, and the same strain on both.
+  double stress_of(const Voigt<3>& s, int c) const { return tied && c == kXX ? 0.5 * (s[kXX] + s[kZZ]) : s[c]; }
+  void spread(Voigt<3>& d_eps) const {
+    if (tied) d_eps[kZZ] = d_eps[kXX];
+  }
 };
+
+// Whether a segment, started at stress s0, controls x and z alike from a state symmetric in them.
+bool axisymmetric(const Segment& seg, const Voigt<3>& s0, double tolerance) {
+  const auto same = [&](int a, int b) {
+    const ComponentControl &ca = seg.control[a], &cb = seg.control[b];
+    return ca.kind == cb.kind && (ca.kind == Control::StressHold || ca.value == cb.value);
+  };
+  const double scale = std::max(max_abs(s0), 1.0);
+  return seg.control[kXX].by_stress() && same(kXX, kZZ) && same(kXY, kYZ) &&
+         std::abs(s0[kXX] - s0[kZZ]) <= tolerance * scale && std::abs(s0[kXY] - s0[kYZ]) <= tolerance * scale;
+}
 
 template <class Model>
 class Driver {
@@ -95,7 +127,9 @@ class Driver {
       const Segment& seg = path.segments[s];
       const Voigt<3> sigma0 = state.stress;
       MixedIncrement inc;
+      inc.tied = axisymmetric(seg, sigma0, settings_.tolerance);
       for (int c = 0; c < n_components; ++c) {
+        if (inc.tied && c == kZZ) continue;  // follows xx
         if (seg.control[c].by_stress()) {
           inc.held[inc.m] = seg.control[c].kind == Control::StressHold;
           inc.unknown[inc.m++] = c;
@@ -112,7 +146,8 @@ class Driver {
         for (int a = 0; a < inc.m; ++a) {
           const int c = inc.unknown[a];
           const ComponentControl& ctl = seg.control[c];
-          inc.target[a] = ctl.kind == Control::StressHold ? sigma0[c] : sigma0[c] + (ctl.value - sigma0[c]) * f;
+          const double from = inc.stress_of(sigma0, c);
+          inc.target[a] = ctl.kind == Control::StressHold ? from : from + (ctl.value - from) * f;
         }
         Voigt<3> d_eps = inc.given;
         const PointState next = inc.m == 0 ? advance(model_, state, d_eps) : solve(state, inc, previous, where, d_eps);
@@ -157,18 +192,28 @@ class Driver {
     const auto evaluate = [&](const VecU& x, PointState& out) {
       Voigt<3> de = inc.given;
       for (int a = 0; a < m; ++a) de[inc.unknown[a]] = x[a];
+      inc.spread(de);
       out = advance(model_, start, de);
       VecU r(m);
-      for (int a = 0; a < m; ++a) r[a] = out.stress[inc.unknown[a]] - inc.target[a];
+      for (int a = 0; a < m; ++a) r[a] = inc.stress_of(out.stress, inc.unknown[a]) - inc.target[a];
       return r;
     };
 
+    // The elastic map from the unknowns to their residuals: Hooke's rows of the measured stresses,
+    // the columns of the strains each unknown moves (xx and zz together when tied).
+    const auto hooke_row = [&](int c) -> Eigen::Matrix<double, 1, 6> {
+      return inc.tied && c == kXX ? Eigen::Matrix<double, 1, 6>(0.5 * (C_.row(kXX) + C_.row(kZZ))) : C_.row(c);
+    };
     MatU C_uu(m, m);
     VecU rhs(m);
     for (int a = 0; a < m; ++a) {
       const int ca = inc.unknown[a];
-      rhs[a] = inc.target[a] - start.stress[ca] - C_.row(ca).dot(inc.given);
-      for (int b = 0; b < m; ++b) C_uu(a, b) = C_(ca, inc.unknown[b]);
+      const auto row_a = hooke_row(ca);
+      rhs[a] = inc.target[a] - inc.stress_of(start.stress, ca) - row_a.dot(inc.given);
+      for (int b = 0; b < m; ++b) {
+        const int cb = inc.unknown[b];
+        C_uu(a, b) = row_a[cb] + (inc.tied && cb == kXX ? row_a[kZZ] : 0.0);
+      }
     }
     const Eigen::PartialPivLU<MatU> elastic_lu(C_uu);
 
@@ -223,6 +268,7 @@ class Driver {
     }
     if (reason) throw RunError(failure(where, inc, state, reason, iterations, tol));
     for (int a = 0; a < m; ++a) d_eps[inc.unknown[a]] = x[a];
+    inc.spread(d_eps);
     return state;
   }
 
@@ -235,8 +281,9 @@ class Driver {
       for (int a = 0; a < inc.m; ++a) {
         if (inc.held[a] != held) continue;
         const int c = inc.unknown[a];
-        list += fmt::format("{}sig_{} {} {:.9g} Pa reached {:.9g} Pa", list.empty() ? "" : "; ", component_name[c],
-                            held ? "held at" : "loaded to", inc.target[a], state.stress[c]);
+        list += fmt::format("{}sig_{} {} {:.9g} Pa reached {:.9g} Pa{}", list.empty() ? "" : "; ", component_name[c],
+                            held ? "held at" : "loaded to", inc.target[a], inc.stress_of(state.stress, c),
+                            inc.tied && c == kXX ? " (with sig_zz: their mean, eps_zz following eps_xx)" : "");
         if (!held) loaded += fmt::format("{}sig_{}", loaded.empty() ? "" : " or ", component_name[c]);
       }
     return fmt::format(

@@ -255,7 +255,16 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
     label_index = static_cast<std::int64_t>(std::floor(value / oc.label_interval)) + 1;
   };
   if (!options.restart && label && oc.label_interval > 0.0) next_label(label->value(*solver));
-  auto frame_time = [&](std::int64_t k) { return oc.interval > 0 ? std::min(end, static_cast<double>(k) * oc.interval) : end; };
+  // Frame k at k * interval, the run's end once that lies beyond it. An end that is a frame time
+  // up to rounding (time.end = 0.3 with interval 0.1, where 3 * 0.1 = 0.30000000000000004) is
+  // reached by landing on the frame time itself: then a run to that end stops at the very time
+  // and state that a run to a later end passes through, and a restart from its end-of-run
+  // checkpoint with a later time.end continues without a sliver of a step to the frame time.
+  auto frame_time = [&](std::int64_t k) {
+    if (!(oc.interval > 0)) return end;
+    const double t = static_cast<double>(k) * oc.interval;
+    return t <= end * (1.0 + 1e-12) ? t : end;
+  };
   double last_frame = start.last_frame, last_row = start.last_row;
   auto last_flush = clock::now();
   auto last_checkpoint = clock::now();
@@ -348,7 +357,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         step_limit = tc.max_steps;
       }
       // A restart may come with another output interval or end time: skip frame times already past.
-      while (frame_time(frame_index) <= solver->time() && frame_time(frame_index) < end) ++frame_index;
+      // The step loop's own rule below: a frame within 1e-6 of a step of the present time is reached.
+      while (frame_time(frame_index) <= solver->time() + 1e-6 * dt && frame_time(frame_index) < end) ++frame_index;
       double next_frame = frame_time(frame_index);
       double next_row = oc.global_interval * static_cast<double>(row_index);
 
@@ -384,7 +394,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         }
         // Land exactly on the next frame (or the end); split the approach in two equal steps rather
         // than leave a sliver of a step.
-        const double target = std::min(end, next_frame);
+        const double target = next_frame;  // never beyond the end but for its rounding (frame_time)
         if (t + dt * (1.0 + 1e-6) >= target) dt = target - t;
         else if (t + 2.0 * dt > target) dt = 0.5 * (target - t);
         try {

@@ -241,6 +241,14 @@ TEST(InputErrors, UnknownMaterialInBody) {
   expect_message(msg, {at_line(line_of(text, "\"sand\"")), "bodies.0.material", "expected one of the materials", "\"soil\"", "\"sand\""});
 }
 
+// A modulus key one letter off: "give exactly one of" would leave the user looking for the typo.
+TEST(InputErrors, MisspeltOneOfKeyIsNamed) {
+  const std::string text = replace(kValid, "youngs_modulus", "young_modulus");
+  const std::string msg = input_error(text);
+  expect_message(msg, {"exactly one of 'youngs_modulus' and 'shear_modulus'", "did you misspell it as 'materials.0.young_modulus'",
+                       "on line " + std::to_string(line_of(text, "young_modulus"))});
+}
+
 TEST(InputErrors, UnknownConstitutiveModel) {
   const std::string text = replace(kValid, "model = \"linear_elastic\"", "model = \"cam_clay\"");
   const std::string msg = input_error(text);
@@ -382,7 +390,9 @@ TEST(ProgramErrors, FixedDtAboveStableLimit) {
   write_file(file, text);
   const ProgramResult r = run_program("run " + quoted(file));
   EXPECT_EQ(r.status, tsuchi::exit_code::input) << r.output;
-  expect_message(r.output, {file.string(), "time.dt", "stable limit"});
+  // At the key's line, as every other input error.
+  expect_message(r.output, {file.string() + ":" + std::to_string(line_of(text, "dt = 0.01")) + ":", "key 'time.dt'",
+                            "stable limit"});
   EXPECT_FALSE(fs::exists(outdir)) << "a refused time step created the output directory";
 }
 

@@ -226,6 +226,40 @@ TEST(Stages, RemovalAndAdditionMoveParticlesAndLoads) {
     EXPECT_DOUBLE_EQ(m.particles.m_p[i], 2000.0 * m.particles.V_p[i]) << "arrays moved together, particle " << i;
 }
 
+// The geostatic (K0) stress weighs only the bodies in the model when a body enters it: the fill
+// that the third stage adds does not load the ground at the start (before, the ground under it
+// started with 0.5 m of fill on top and heaved 5.6 mm in a helper's embankment); the block the
+// second stage digs out does; and the fill, placed after the dig, weighs only itself.
+TEST(Stages, GeostaticStressWeighsTheBodiesPresentWhenABodyEnters) {
+  std::string text = kStaged;
+  const auto with_k0 = [&](const std::string& after) {
+    const auto at = text.find(after);
+    ASSERT_NE(at, std::string::npos);
+    text.insert(at + after.size(), "\n[bodies.initial_stress]\nk0 = 0.5\n");
+  };
+  with_k0("min = [0.0, 2.0]\nmax = [2.0, 2.5]");  // the fill
+  with_k0("min = [0.0, 0.0]\nmax = [4.0, 2.0]");  // the ground
+  const Config c = read_config_string(text, "staged.toml");
+  const Model<2> m = build_model<2>(c);
+  const double rho_g = 2000.0 * 9.81;
+  int under_fill = 0, under_block = 0, fill = 0;
+  for (std::size_t i = 0; i < m.particles.size(); ++i) {
+    if (m.particles.body_p[i] != 1) continue;  // the ground
+    const Vec<2>& x = m.particles.x_p[i];
+    const double top = x[0] < 2.0 ? 2.0 : 2.5;  // the fill is not there yet; the block is
+    EXPECT_NEAR(m.particles.sigma_p[i][1], -rho_g * (top - x[1]), 1e-9 * rho_g) << "ground particle at x = " << x[0];
+    ++(x[0] < 2.0 ? under_fill : under_block);
+  }
+  for (std::size_t i = 0; i < m.dormant.size(); ++i) {
+    const Vec<2>& x = m.dormant.x_p[i];
+    EXPECT_NEAR(m.dormant.sigma_p[i][1], -rho_g * (2.5 - x[1]), 1e-9 * rho_g) << "fill particle at y = " << x[1];
+    ++fill;
+  }
+  EXPECT_GT(under_fill, 0);
+  EXPECT_GT(under_block, 0);
+  EXPECT_GT(fill, 0);
+}
+
 TEST(Stages, ReconfigureRestartsTheStageClock) {
   const Config c = read_config_string(kStaged, "staged.toml");
   Model<2> m = build_model<2>(c);

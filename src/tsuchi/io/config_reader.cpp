@@ -117,7 +117,8 @@ void read_initial_stress(Section& s, const Config& c, BodyConfig& b) {
   auto& is = b.initial_stress;
   const int dim = c.dimension;
   const int given = s.has("isotropic") + s.has("tensor") + s.has("k0");
-  if (given != 1) s.fail_here("give exactly one of 'isotropic' (Pa), 'tensor' (Pa) and 'k0' (geostatic)");
+  if (given != 1)
+    s.fail_one_of({"isotropic", "tensor", "k0"}, "give exactly one of 'isotropic' (Pa), 'tensor' (Pa) and 'k0' (geostatic)");
   if (s.has("isotropic")) {
     is.kind = InitialStressConfig::Kind::Uniform;
     const double v = s.number("isotropic", "a stress in Pa (tension positive: a confining pressure is negative)", any);
@@ -450,6 +451,7 @@ void read_time(Section& s, Config& c, bool staged) {
   }
   t.courant = s.optional_number("courant", "a Courant number in (0, 1]", [](double x) { return x > 0 && x <= 1; });
   t.dt = s.optional_number("dt", "a positive time step in s", positive);
+  if (const toml::node* n = s.get("dt")) t.dt_where = where(s.file(), n->source());
   if (t.courant && t.dt) s.fail("dt", "give either 'courant' or 'dt', not both");
   if (!t.courant && !t.dt) t.courant = 0.5;
   t.max_steps = s.integer("max_steps", "a non-negative whole number", [](std::int64_t n) { return n >= 0; }, 0);

@@ -123,7 +123,8 @@ ElementPath isotropic_compression(Section& s) {
   const double p0 = read_pressure(s, "initial_pressure", 0.0);
   const bool by_stress = s.has("final_pressure"), by_strain = s.has("volumetric_strain");
   if (by_stress == by_strain)
-    s.fail_here("give exactly one of 'final_pressure' (Pa, stress control) and 'volumetric_strain' (strain control)");
+    s.fail_one_of({"final_pressure", "volumetric_strain"},
+                  "give exactly one of 'final_pressure' (Pa, stress control) and 'volumetric_strain' (strain control)");
   ElementPath path;
   path.initial_stress = isotropic(-p0);
   path.kind = "isotropic_compression";
@@ -153,7 +154,7 @@ Voigt<3> read_initial_stress(Section& test) {
   if (!t) return Voigt<3>::Zero();
   Section s(*t, test.key_path("initial_stress"), test.file());
   if (s.has("isotropic") == s.has("tensor"))
-    s.fail_here("give exactly one of 'isotropic' (Pa) and 'tensor' (Pa, [xx, yy, zz, xy, yz, xz])");
+    s.fail_one_of({"isotropic", "tensor"}, "give exactly one of 'isotropic' (Pa) and 'tensor' (Pa, [xx, yy, zz, xy, yz, xz])");
   Voigt<3> v;
   if (s.has("isotropic")) {
     v = isotropic(s.number("isotropic", "a stress in Pa (tension positive: a confining pressure is negative)", any));

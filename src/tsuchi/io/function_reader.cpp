@@ -84,8 +84,9 @@ void read_functions(Section& top, Config& c) {
       if (other.name == f.name) s.fail("name", fmt::format("function \"{}\" is defined twice", f.name));
     const int given = s.has("table") + s.has("formula") + s.has("file");
     if (given != 1)
-      s.fail_here("give exactly one of 'table' ([[t, value], ...]), 'formula' (an expression of t in quotes) and "
-                  "'file' (a CSV record)");
+      s.fail_one_of({"table", "formula", "file"},
+                    "give exactly one of 'table' ([[t, value], ...]), 'formula' (an expression of t in quotes) and "
+                    "'file' (a CSV record)");
     if (s.has("table")) {
       f.f = read_table(s);
     } else if (s.has("formula")) {

@@ -55,8 +55,8 @@ void read_traction(Section& s, const Config& c, LoadConfig& l) {
     p.finish();
   }
   if (s.has("traction") == s.has("pressure"))
-    s.fail_here("give exactly one of 'traction' (a force per unit area in Pa, global axes) and 'pressure' (Pa, "
-                "positive pushing into the body)");
+    s.fail_one_of({"traction", "pressure"}, "give exactly one of 'traction' (a force per unit area in Pa, global axes) "
+                                            "and 'pressure' (Pa, positive pushing into the body)");
   if (s.has("traction")) {
     l.vector = s.vector("traction", dim, "a traction in Pa", any);
   } else {

@@ -108,6 +108,16 @@ class Section {
                                  path_.empty() ? "" : fmt::format("in '{}': ", path_), msg));
   }
 
+  // "Give exactly one of these keys" failed. When none of them is there, a key one letter off
+  // one of them (`young_modulus`) is the likely cause: named with its line, as for a missing key.
+  [[noreturn]] void fail_one_of(std::initializer_list<std::string_view> keys, const std::string& msg) const {
+    std::string hint;
+    if (std::none_of(keys.begin(), keys.end(), [&](std::string_view k) { return has(k); }))
+      for (const std::string_view k : keys)
+        if (hint.empty()) hint = misspelt(k);
+    fail_here(msg + hint);
+  }
+
   bool has(std::string_view key) const { return t_.get(key) != nullptr; }
 
   const toml::node* get(std::string_view key) {

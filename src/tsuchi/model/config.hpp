@@ -199,6 +199,7 @@ struct TimeConfig {
   std::optional<double> courant;   // exactly one of courant and dt is set
   std::optional<double> dt;
   std::int64_t max_steps = 0;      // 0: no limit
+  std::string dt_where;            // "FILE:LINE:COL" of time.dt, for messages ("" when not given)
 };
 
 // When the run saves its whole state for a restart (io/checkpoint.hpp). A checkpoint is also

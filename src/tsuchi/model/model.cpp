@@ -60,7 +60,7 @@ void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m
   const BodyConfig& b = c.bodies[body];
   auto& p = m.particles;
   const GeostaticFrame frame = geostatic_frame(c);
-  const Overburden overburden(c, frame.up_axis, frame.up_sign);
+  const Overburden overburden(c, frame.up_axis, frame.up_sign, present_with(c, body));
   const bool k0 = b.initial_stress.kind == InitialStressConfig::Kind::K0;
   ImperfectionField field(b.imperfection);
   const bool imperfect = b.imperfection.amplitude > 0.0 && (b.imperfection.cohesion || b.imperfection.friction);

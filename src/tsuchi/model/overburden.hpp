@@ -10,11 +10,16 @@
 // (Shape::chord), so the integral is exact for any surface and layering: the sum over the pieces
 // between consecutive chord ends of rho times the piece's length. Bodies read from files are not
 // part of any column (they have no shape). q is the surcharge on top of the column.
+//
+// Only the bodies in the model when the point's body enters it are weighed (present_with): a
+// fill that a later stage adds does not load the ground before it is placed, and a body an
+// earlier stage removed does not load a fill placed after it.
 #include "tsuchi/geometry/shape.hpp"
 #include "tsuchi/model/config.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace tsuchi {
@@ -27,10 +32,28 @@ inline double column_surcharge(const Config& c, int body, const geometry::Point&
   return c.bodies[static_cast<std::size_t>(body)].initial_stress.surface_stress;
 }
 
+// The bodies in the model when `body` enters it: those present from the start, or, for a body a
+// stage adds, those present once that stage has made its removals and additions.
+inline std::vector<bool> present_with(const Config& c, int body) {
+  const std::size_t n = c.bodies.size();
+  const auto dormant = [&](std::size_t b) { return b < c.body_starts_dormant.size() && c.body_starts_dormant[b]; };
+  std::vector<bool> present(n);
+  for (std::size_t b = 0; b < n; ++b) present[b] = !dormant(b);
+  if (!dormant(static_cast<std::size_t>(body))) return present;
+  for (const StageConfig& st : c.stages) {
+    for (const int b : st.remove) present[static_cast<std::size_t>(b)] = false;
+    for (const int b : st.add) present[static_cast<std::size_t>(b)] = true;
+    if (std::find(st.add.begin(), st.add.end(), body) != st.add.end()) break;
+  }
+  return present;
+}
+
 class Overburden {
  public:
-  // up_axis: the axis opposite gravity; up_sign +1 when up is its positive direction.
-  Overburden(const Config& c, int up_axis, double up_sign) : c_(c), axis_(up_axis), sign_(up_sign) {}
+  // up_axis: the axis opposite gravity; up_sign +1 when up is its positive direction; weighs the
+  // bodies `counts` marks.
+  Overburden(const Config& c, int up_axis, double up_sign, std::vector<bool> counts)
+      : c_(c), axis_(up_axis), sign_(up_sign), counts_(std::move(counts)) {}
 
   // The integral of rho over the material above x (kg/m^2; per unit area of the horizontal plane).
   double mass_above(const geometry::Point& x) const {
@@ -49,7 +72,7 @@ class Overburden {
     };
     for (std::size_t b = 0; b < c_.bodies.size(); ++b) {
       const BodyConfig& bc = c_.bodies[b];
-      if (!bc.shape) continue;
+      if (!bc.shape || !counts_[b]) continue;
       body[b] = take(bc.shape->chord(x, axis_));
       if (body[b].empty()) continue;
       for (const auto& r : bc.regions) region[b].push_back(take(r.shape->chord(x, axis_)));
@@ -90,6 +113,7 @@ class Overburden {
   const Config& c_;
   int axis_;
   double sign_;
+  std::vector<bool> counts_;
 };
 
 }  // namespace tsuchi

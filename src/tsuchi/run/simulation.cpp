@@ -35,7 +35,9 @@ double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step,
         "time.dt = {:.6g} s is above the stable limit {:.6g} s (cell size / (P-wave speed + particle speed)); set "
         "a smaller time.dt (--set time.dt={:.3g}), or replace time.dt by time.courant in {}",
         *time.dt, dt_crit, 0.9 * dt_crit, source);
-    if (step == 0) throw InputError(fmt::format("{}: {}", source, msg));
+    if (step == 0)
+      throw InputError(time.dt_where.empty() ? fmt::format("{}: {}", source, msg)
+                                             : fmt::format("{}: key 'time.dt': {}", time.dt_where, msg));
     throw RunError(msg, Fault::UnstableStep);
   }
   return *time.dt;

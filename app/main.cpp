@@ -239,8 +239,9 @@ int run(const Config& c, const Options& o) {
   };
   ro.on_stage_end = [&](const StageReport& r) {
     if (r.equilibrium_asked && r.end != "equilibrium")
-      fmt::print(stderr, "warning: stage \"{}\" reached {} before equilibrium; the next stage starts from a state that "
-                         "is not at rest\n", r.name, r.end);
+      fmt::print(stderr, "warning: stage \"{}\" reached {} before equilibrium; {}\n", r.name, r.end,
+                 r.stage < r.stages ? "the next stage starts from a state that is not at rest"
+                                    : "the analysis ends in a state that is not at rest");
     if (o.quiet) return;
     reporter.finish(last);
     fmt::print("stage {}/{} \"{}\": {} at step {} (t = {:.6g} s), {} steps, unbalanced-force ratio {:.3g}\n", r.stage,

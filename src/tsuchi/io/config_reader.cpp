@@ -115,6 +115,7 @@ void read_initial_velocity(Section& s, int dim, BodyConfig& b) {
 // Exactly one of: isotropic (a number), tensor (the Voigt components), k0 (geostatic under gravity).
 void read_initial_stress(Section& s, const Config& c, BodyConfig& b) {
   auto& is = b.initial_stress;
+  is.where = where(s.file(), s.raw().source());
   const int dim = c.dimension;
   const int given = s.has("isotropic") + s.has("tensor") + s.has("k0");
   if (given != 1)

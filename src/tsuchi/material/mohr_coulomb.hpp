@@ -289,7 +289,12 @@ struct MohrCoulomb {
   }
 
   // A K0 profile outside the surface: what k0 must satisfy (with c = 0).
-  static constexpr std::string_view k0_hint = "with c = 0 a K0 state needs 1/N_phi <= k0 <= N_phi";
+  // With sigma_v > 0 in compression, sigma_h = k0 sigma_v is inside eq (24) while
+  // |1 - k0| sigma_v <= 2 c cos(phi) + (1 + k0) sigma_v sin(phi).
+  static constexpr std::string_view k0_hint =
+      "a K0 state lies inside the surface while |1 - k0| sigma_v <= 2 c cos(phi) + (1 + k0) sigma_v sin(phi), "
+      "sigma_v the vertical stress (compression positive): with c = 0 at any depth if 1/N_phi <= k0 <= N_phi, "
+      "with c > 0 down to the depth where sigma_v reaches the bound; take k0 nearer 1 or a stronger material";
 
   // Why an imperfection of this amplitude cannot apply, or "".
   std::string imperfection_limit(double amplitude, bool /*cohesion*/, bool friction) const {

@@ -65,6 +65,7 @@ struct InitialStressConfig {
   std::optional<double> surface;
   double surface_stress = 0.0;     // K0: the surcharge on top of every column (Pa, tension positive)
   bool subtract = false;
+  std::string where;               // "FILE:LINE:COL" of the table, for messages ("" when not given)
 };
 
 // Random strength imperfection: c and/or phi of each particle times (1 + d), d uniform in [-a, a].

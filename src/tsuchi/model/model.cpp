@@ -129,13 +129,14 @@ void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m
             std::string hint;
             if constexpr (requires { M::k0_hint; })
               if (k0) hint = fmt::format("; {}", M::k0_hint);
-            const std::string key = b.initial_stress.kind == InitialStressConfig::Kind::None
-                                        ? fmt::format("bodies.{}.particles", body)
-                                        : fmt::format("bodies.{}.initial_stress", body);
+            const bool from_table = b.initial_stress.kind != InitialStressConfig::Kind::None;
+            const std::string key = from_table ? fmt::format("bodies.{}.initial_stress", body)
+                                               : fmt::format("bodies.{}.particles", body);
+            const std::string& at = from_table && !b.initial_stress.where.empty() ? b.initial_stress.where : c.source;
             throw InputError(fmt::format(
                 "{}: key '{}': the initial stress of body \"{}\" lies outside the {} surface of material \"{}\" at "
                 "({}): principal stresses {:.6g}, {:.6g}, {:.6g} Pa{}",
-                c.source, key, b.name, beyond.surface, mat.name, coordinates<D>(p.x_p[q]), v[0], v[1], v[2], hint));
+                at, key, b.name, beyond.surface, mat.name, coordinates<D>(p.x_p[q]), v[0], v[1], v[2], hint));
           }
         },
         mat.model);
@@ -275,10 +276,11 @@ std::vector<Placement<D>> place_bodies(const Config& c, const Grid<D>& g) {
       constexpr const char* axis[3] = {"x", "y", "z"};
       const int d = l.empty_axis;
       throw InputError(fmt::format(
-          "{}: key 'bodies.{}': body \"{}\" holds no particle: along {} no particle position (grid.origin + "
+          "{}: body \"{}\" holds no particle: along {} no particle position (grid.origin + "
           "(j + 1/2) * {:.6g} m, the spacing cell_size / particles_per_cell) lies in [{:.6g}, {:.6g}); expected a "
           "{} at least one particle spacing thick",
-          c.source, b, bc.name, axis[d], l.spacing[d], l.lo[d], l.hi[d], bc.shape_kind == "box" ? "box" : "shape"));
+          body_key(c, static_cast<int>(b)), bc.name, axis[d], l.spacing[d], l.lo[d], l.hi[d],
+          bc.shape_kind == "box" ? "box" : "shape"));
     }
     std::vector<std::size_t> rivals;
     for (std::size_t o = 0; o < n; ++o)

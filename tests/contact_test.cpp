@@ -215,9 +215,9 @@ frames = false
 // on an elastic base layer fixed at its bottom, [[contact]] friction mu: it translates by eq (R3) of
 // explicit_step.cpp and slides at g (sin th - mu cos th) within 1 % (measured -0.41 % at 30 deg,
 // mu 0.2, and -0.61 % at mu 0.5, since rigid bodies take no anti-locking remedy; -0.006 % before,
-// examples/sliding_block/README.md). Meeting the base with its nodal mass, not as an infinitely heavy partner, is what makes
-// this work: treated as infinitely heavy within a step, its explicit velocity update rang and the
-// block stuck.
+// examples/sliding_block/README.md). Meeting the base with its nodal mass, not as an infinitely
+// heavy partner, is what makes this work: treated as infinitely heavy within a step, its explicit
+// velocity update rang and the block stuck.
 TEST(SlidingBlock, FreeRigidBlockSlidesAtCoulombsAcceleration) {
   for (const double mu : {0.2, 0.5}) {
     const Config c = read_config_file(kExamples + "sliding_block/rigid_block.toml",

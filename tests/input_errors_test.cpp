@@ -245,7 +245,8 @@ TEST(InputErrors, UnknownMaterialInBody) {
 TEST(InputErrors, MisspeltOneOfKeyIsNamed) {
   const std::string text = replace(kValid, "youngs_modulus", "young_modulus");
   const std::string msg = input_error(text);
-  expect_message(msg, {"exactly one of 'youngs_modulus' and 'shear_modulus'", "did you misspell it as 'materials.0.young_modulus'",
+  expect_message(msg, {"exactly one of 'youngs_modulus' and 'shear_modulus'",
+                       "did you misspell it as 'materials.0.young_modulus'",
                        "on line " + std::to_string(line_of(text, "young_modulus"))});
 }
 

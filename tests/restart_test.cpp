@@ -206,7 +206,8 @@ TEST(Restart, LaterEndFromAFrameTimeContinuesBitwise) {
   write_file(tmp.path / "column.toml", elastic_input);
   const auto run = [&](const fs::path& out, double end, bool restart) {
     std::string a = "run -q " + quoted(tmp.path / "column.toml") + " -o " + quoted(out) +
-                    " --set output.interval=0.1 --set checkpoint.every_steps=1000000 --set time.end=" + fmt::format("{}", end);
+                    " --set output.interval=0.1 --set checkpoint.every_steps=1000000" +
+                    " --set time.end=" + fmt::format("{}", end);
     if (restart) a += " --restart " + quoted(out / "checkpoint.tsuchi");
     const ProgramResult r = run_program(a);
     EXPECT_EQ(r.status, exit_code::ok) << r.output;

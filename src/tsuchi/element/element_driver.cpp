@@ -74,8 +74,8 @@ constexpr int kXX = 0, kZZ = 2, kXY = 3, kYZ = 4;
 // two lateral principal stresses are equal) the lateral plastic flow may split between x and z in
 // any proportion without changing the stress: Newton's method on eps_xx and eps_zz apart then
 // picks a split that depends on round-off (eps_xx 0.023 against eps_zz 0.030 at 5 % axial strain,
-// with q and the dilatancy ratio right). Tied, eps_zz follows eps_xx and the one unknown meets the mean
-// of sigma_xx and sigma_zz, which the symmetric state holds equal.
+// with q and the dilatancy ratio right). Tied, eps_zz follows eps_xx and the one unknown meets the
+// mean of sigma_xx and sigma_zz, which the symmetric state holds equal.
 struct MixedIncrement {
   Voigt<3> given = Voigt<3>::Zero();  // strain increment of the driven components (others 0)
   std::array<int, n_components> unknown{};

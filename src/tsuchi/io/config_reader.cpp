@@ -119,7 +119,8 @@ void read_initial_stress(Section& s, const Config& c, BodyConfig& b) {
   const int dim = c.dimension;
   const int given = s.has("isotropic") + s.has("tensor") + s.has("k0");
   if (given != 1)
-    s.fail_one_of({"isotropic", "tensor", "k0"}, "give exactly one of 'isotropic' (Pa), 'tensor' (Pa) and 'k0' (geostatic)");
+    s.fail_one_of({"isotropic", "tensor", "k0"},
+                  "give exactly one of 'isotropic' (Pa), 'tensor' (Pa) and 'k0' (geostatic)");
   if (s.has("isotropic")) {
     is.kind = InitialStressConfig::Kind::Uniform;
     const double v = s.number("isotropic", "a stress in Pa (tension positive: a confining pressure is negative)", any);

@@ -154,7 +154,8 @@ Voigt<3> read_initial_stress(Section& test) {
   if (!t) return Voigt<3>::Zero();
   Section s(*t, test.key_path("initial_stress"), test.file());
   if (s.has("isotropic") == s.has("tensor"))
-    s.fail_one_of({"isotropic", "tensor"}, "give exactly one of 'isotropic' (Pa) and 'tensor' (Pa, [xx, yy, zz, xy, yz, xz])");
+    s.fail_one_of({"isotropic", "tensor"},
+                  "give exactly one of 'isotropic' (Pa) and 'tensor' (Pa, [xx, yy, zz, xy, yz, xz])");
   Voigt<3> v;
   if (s.has("isotropic")) {
     v = isotropic(s.number("isotropic", "a stress in Pa (tension positive: a confining pressure is negative)", any));

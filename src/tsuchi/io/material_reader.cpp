@@ -21,7 +21,8 @@ LinearElastic read_elastic(Section& s, std::vector<std::string>* warnings) {
   const double nu = s.number("poisson_ratio", "a Poisson's ratio in (-1, 0.5)",
                              [](double v) { return v > -1.0 && v < 0.5; });
   const bool has_E = s.has("youngs_modulus"), has_G = s.has("shear_modulus");
-  if (has_E == has_G) s.fail_one_of({"youngs_modulus", "shear_modulus"}, "give exactly one of 'youngs_modulus' and 'shear_modulus' (Pa)");
+  if (has_E == has_G)
+    s.fail_one_of({"youngs_modulus", "shear_modulus"}, "give exactly one of 'youngs_modulus' and 'shear_modulus' (Pa)");
   const char* key = has_E ? "youngs_modulus" : "shear_modulus";
   const double modulus = s.number(key, "a positive modulus in Pa", positive);
   check_modulus(s, warnings, key, modulus);

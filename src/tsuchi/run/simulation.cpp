@@ -267,6 +267,14 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
     const double t = static_cast<double>(k) * oc.interval;
     return t <= end * (1.0 + 1e-12) ? t : end;
   };
+  // The frame after those reached at time `now`: a frame within 1e-6 of the step `step` of it
+  // counts as reached (above the round-off of summing thousands of steps). The step loop and a
+  // restart's first step both take this rule, so a restart skips exactly the frames the
+  // uninterrupted run had written.
+  auto frame_after = [&](double now, double step) {
+    while (frame_time(frame_index) <= now + 1e-6 * step && frame_time(frame_index) < end) ++frame_index;
+    return frame_time(frame_index);
+  };
   double last_frame = start.last_frame, last_row = start.last_row;
   auto last_flush = clock::now();
   auto last_checkpoint = clock::now();
@@ -359,9 +367,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         step_limit = tc.max_steps;
       }
       // A restart may come with another output interval or end time: skip frame times already past.
-      // The step loop's own rule below: a frame within 1e-6 of a step of the present time is reached.
-      while (frame_time(frame_index) <= solver->time() + 1e-6 * dt && frame_time(frame_index) < end) ++frame_index;
-      double next_frame = frame_time(frame_index);
+      double next_frame = frame_after(solver->time(), dt);
       double next_row = oc.global_interval * static_cast<double>(row_index);
 
       while (solver->time() < end * (1.0 - 1e-12)) {
@@ -433,7 +439,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
             write_frame(now);
             last_frame = now;
           }
-          while (next_frame <= now + tol && next_frame < end) next_frame = frame_time(++frame_index);
+          next_frame = frame_after(now, dt);
           if (by_label) next_label(label_value);
         }
         Progress progress;

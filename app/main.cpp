@@ -119,9 +119,11 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
              c.solver.velocity_transfer == VelocityTransfer::Apic ? std::string("APIC transfer")
                                                                    : fmt::format("FLIP, PIC fraction {}", c.solver.pic_fraction),
              to_string(c.solver.anti_locking), c.solver.damping);
-  for (std::size_t k = 0; k < c.material_anti_locking.size(); ++k)
-    if (c.material_anti_locking[k] && *c.material_anti_locking[k] != c.solver.anti_locking)
-      fmt::print("           material \"{}\": anti-locking {}\n", c.materials[k].name, to_string(*c.material_anti_locking[k]));
+  // Each material whose remedy is not the line above's: its own key, or a dilatant material's default.
+  for (std::size_t k = 0; k < c.materials.size(); ++k)
+    if (const AntiLocking a = anti_locking_of(c, k); a != c.solver.anti_locking)
+      fmt::print("           material \"{}\": anti-locking {}{}\n", c.materials[k].name, to_string(a),
+                 k < c.material_anti_locking.size() && c.material_anti_locking[k] ? "" : " (dilatant: the default)");
   fmt::print("time step  {:.4g} s ({}; stable limit {:.4g} s)\n", dt,
              c.time.courant ? fmt::format("Courant {}", *c.time.courant) : std::string("fixed"), dt_crit);
   if (c.staged()) {

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <numbers>
 #include <sstream>
 
 namespace tsuchi {
@@ -413,6 +414,21 @@ void read_boundary(Section& s, Config& c) {
   s.finish();
 }
 
+// A remedy chosen in the input that is not the symmetric pair, for a material whose plastic flow
+// dilates: eq (V6) of model/config.hpp. Valid, and kept, but worth a line before the run.
+void warn_unsymmetric_remedy(const Section& s, std::vector<std::string>& warnings, const Material& m,
+                             AntiLocking remedy) {
+  const double psi = dilatancy_angle_of(m);
+  if (!(psi > 0.0) || (remedy != AntiLocking::Node && remedy != AntiLocking::Cell)) return;
+  warnings.push_back(s.located(
+      "anti_locking",
+      fmt::format("material \"{}\" dilates (dilatancy angle {:.3g} deg) and takes \"{}\": the averaged strain and the "
+                  "force are then not a symmetric pair, and dilatant plastic flow can run away (Mohr-Coulomb in plane "
+                  "strain: when sin(psi) > (1 - 2 nu) / 3); \"bbar\", a dilatant material's default, keeps it stable "
+                  "(docs/input.md, [solver])",
+                  m.name, psi * 180.0 / std::numbers::pi, to_string(remedy))));
+}
+
 void read_solver(Section& s, Config& c) {
   auto& v = c.solver;
   v.scheme = static_cast<Scheme>(s.choice("scheme", {"usf", "usl", "musl"}, 2));
@@ -431,7 +447,13 @@ void read_solver(Section& s, Config& c) {
     s.fail("pic_fraction", fmt::format("expected 0 (or no pic_fraction) with velocity_transfer = \"apic\", got {}: "
                                        "APIC has no FLIP/PIC blend; use velocity_transfer = \"flip\" for a blend",
                                        v.pic_fraction));
+  v.anti_locking_given = s.has("anti_locking");
   v.anti_locking = static_cast<AntiLocking>(s.choice("anti_locking", {"none", "cell", "node", "bbar"}, 2));
+  // The materials are read before [solver]; those without their own remedy take this one.
+  if (v.anti_locking_given)
+    for (std::size_t k = 0; k < c.materials.size(); ++k)
+      if (!(k < c.material_anti_locking.size() && c.material_anti_locking[k]))
+        warn_unsymmetric_remedy(s, c.warnings, c.materials[k], v.anti_locking);
   v.hold_released_volume = s.boolean("hold_released_volume", true);
   v.damping = s.number("damping", "a coefficient in [0, 1)", [](double x) { return x >= 0 && x < 1; }, 0.0);
   v.mass_threshold = s.number("mass_threshold", "a fraction in (0, 1)", [](double x) { return x > 0 && x < 1; }, 1e-9);
@@ -747,6 +769,7 @@ Config read_document(const toml::table& root, const std::string& file, bool stag
     c.material_anti_locking.push_back(anti_locking < 0 ? std::nullopt
                                                        : std::optional(static_cast<AntiLocking>(anti_locking)));
     c.materials.push_back(read_material(s, c.materials, &c.warnings));
+    if (anti_locking >= 0) warn_unsymmetric_remedy(s, c.warnings, c.materials.back(), static_cast<AntiLocking>(anti_locking));
   }
 
   const auto bodies = top.need_tables("bodies", "at least one [[bodies]] table");

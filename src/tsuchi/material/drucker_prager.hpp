@@ -60,6 +60,7 @@ struct DruckerPrager {
   double cohesion = 0.0;  // c (Pa)
   double phi = 0.0;       // friction angle (rad)
   double psi = 0.0;       // dilatancy angle (rad)
+  double dilatancy_angle() const { return psi; }
   double tension = 0.0;   // sigma_t (Pa), at most the apex c / tan(phi)
   ConeMatch match = ConeMatch::Compression;
 

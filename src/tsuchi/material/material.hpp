@@ -28,6 +28,9 @@
 //                                     without it is not reduced (and an input with none is refused),
 //   static constexpr bool reads_own_elasticity;   true: the material reader reads no moduli and
 //                                     passes a default LinearElastic (the model's reader reads its own),
+//   double dilatancy_angle() const;   the largest dilatancy angle (rad) its plastic flow takes:
+//                                     a dilatant material takes the symmetric anti-locking pair by
+//                                     default (model/config.hpp, anti_locking_of),
 // and
 // with a reader of its input parameters beside it, in namespace tsuchi,
 //   template <class Table, class Warn> M read_model_parameters(Table&, const LinearElastic& moduli,
@@ -125,5 +128,13 @@ std::vector<std::string_view> models_with_state_field(std::string_view name);
 
 // Whether the model of `m` has a state field named `name`.
 bool has_state_field(const Material& m, std::string_view name);
+
+// The largest dilatancy angle (rad) the plastic flow of `m` takes; 0 for a model without one.
+inline double dilatancy_angle_of(const Material& m) {
+  return std::visit([](const auto& model) {
+    if constexpr (requires { model.dilatancy_angle(); }) return model.dilatancy_angle();
+    else return 0.0;
+  }, m.model);
+}
 
 }  // namespace tsuchi

@@ -71,6 +71,7 @@ struct MohrCoulomb {
   double cohesion = 0.0;  // c (Pa)
   double phi = 0.0;       // friction angle (rad)
   double psi = 0.0;       // dilatancy angle (rad)
+  double dilatancy_angle() const { return psi; }
   double tension = 0.0;   // sigma_t (Pa), at most c / tan(phi), eq (29)
   TensionRule tension_rule = TensionRule::Flac;
   TensionSelection tension_selection = TensionSelection::Flac;

@@ -27,6 +27,7 @@
 #include <limits>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -56,6 +57,7 @@ struct MohrCoulombSoftening {
   SofteningTable cohesion;  // c (Pa)
   SofteningTable phi;       // friction angle (rad)
   SofteningTable psi;       // dilatancy angle (rad)
+  double dilatancy_angle() const { return *std::max_element(psi.value.begin(), psi.value.end()); }
   std::optional<double> softening_length;  // L (m), the band width the tables' strains refer to
   double cell_size = 0.0;                  // h (m) the tables were scaled for; 0: used as given
 

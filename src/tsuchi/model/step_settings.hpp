@@ -34,9 +34,8 @@ struct StepSettings {
     kernel = c.solver.shape;
     pic_fraction = c.solver.pic_fraction;
     velocity_transfer = c.solver.velocity_transfer;
-    anti_locking.assign(c.materials.size(), c.solver.anti_locking);
-    for (std::size_t k = 0; k < c.material_anti_locking.size() && k < c.materials.size(); ++k)
-      if (c.material_anti_locking[k]) anti_locking[k] = *c.material_anti_locking[k];
+    anti_locking.resize(c.materials.size());
+    for (std::size_t k = 0; k < c.materials.size(); ++k) anti_locking[k] = anti_locking_of(c, k);
     hold_released_volume = c.solver.hold_released_volume;
     damping = c.solver.damping;
     for (int d = 0; d < D; ++d) gravity[d] = c.gravity[d];

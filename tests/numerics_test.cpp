@@ -145,9 +145,11 @@ TEST(AntiLocking, StripFootingNearPrandtl) {
 // prescribed homogeneous velocity (v_y = -0.1 y), free to widen along x: every point should stay
 // on the same stress, the peak sigma_1 = N_phi sigma_3 + 2 c sqrt(N_phi) = 334.64 kPa, and widen
 // at d eps_xx / d eps_yy = -N_psi = -1.420 once yielding. sin psi = 0.174 > (1 - 2 nu) / 3 = 0.133:
-// with the node average alone (eq V6 of model/config.hpp) this element runs away at about 4 %
-// axial strain (particle stresses from -40 to -480 kPa at 6 %); the default for a dilatant
-// material, bbar, holds every point within 0.3 % of the peak to 7 %.
+// with the node average (eq V6 of model/config.hpp) this element runs away at about 4 % axial
+// strain (particle stresses from -40 to -480 kPa at 6 %). A dilatant material's default, no
+// average, holds every point within 0.4 % of the peak to 7 %. The same element in 3D (triaxial
+// compression, 2 x 4 x 2 cells of 25 mm) spreads by +-20 % with "node" or "bbar" at 3.6 % and
+// stays on the peak to 1e-5 without.
 const std::string kDilatantElement = R"toml(
 [model]
 dimension = 2
@@ -209,9 +211,32 @@ quantity = "stress_yy"
 reduction = "max"
 )toml";
 
-TEST(AntiLocking, DilatantMaterialTakesTheSymmetricPairAndStaysOnItsPeak) {
+// Every point's sigma_yy over the run once yielding (t >= 0.15 s): the worst relative distance
+// from the Mohr-Coulomb peak, and eps_xx (the body's mean) at the first step from 0.3 s and at the end.
+struct DilatantRun {
+  double worst = 0.0, t_first = 0.0, t_last = 0.0, exx_first = 0.0, exx_last = 0.0;
+};
+template <int D>
+DilatantRun run_dilatant_element(const Config& c) {
+  Model<D> m = build_model<D>(c);
+  const std::vector<Recorder<D>> rec = make_recorders<D>(c, m);
+  const double deg = std::numbers::pi / 180.0;
+  const double N_phi = (1 + std::sin(30 * deg)) / (1 - std::sin(30 * deg));
+  const double peak = -(N_phi * 100e3 + 2 * 10e3 * std::sqrt(N_phi));
+  DilatantRun r;
+  run_simulation<D>(m, c, no_output(), [&](const ExplicitSolver<D>& s) {
+    const double t = s.time();
+    if (t < 0.15) return;  // every point yields at about 1.1 % (t = 0.11)
+    r.worst = std::max({r.worst, std::abs(rec[1].value(s) / peak - 1), std::abs(rec[2].value(s) / peak - 1)});
+    if (r.t_first == 0.0 && t >= 0.3) r.t_first = t, r.exx_first = rec[0].value(s);
+    r.t_last = t, r.exx_last = rec[0].value(s);
+  });
+  return r;
+}
+
+TEST(AntiLocking, DilatantMaterialTakesNoAverageAndStaysOnItsPeak) {
   const Config c = read_config_string(kDilatantElement, "element.toml");
-  EXPECT_EQ(anti_locking_of(c, 0), AntiLocking::Bbar) << "a dilatant material's default";
+  EXPECT_EQ(anti_locking_of(c, 0), AntiLocking::None) << "a dilatant material's default";
   EXPECT_TRUE(c.warnings.empty());
   // The same material without dilatancy keeps the node average; a remedy the input gives is kept.
   EXPECT_EQ(anti_locking_of(read_config_string(kDilatantElement, "element.toml", {"materials.0.dilatancy_angle=0.0"}), 0),
@@ -221,25 +246,34 @@ TEST(AntiLocking, DilatantMaterialTakesTheSymmetricPairAndStaysOnItsPeak) {
   ASSERT_EQ(node.warnings.size(), 1u) << "a dilatant material given the node average is warned of";
   EXPECT_NE(node.warnings[0].find("sin(psi) > (1 - 2 nu) / 3"), std::string::npos) << node.warnings[0];
 
-  Model<2> m = build_model<2>(c);
-  const std::vector<Recorder<2>> rec = make_recorders<2>(c, m);
-  const double deg = std::numbers::pi / 180.0;
-  const double N_phi = (1 + std::sin(30 * deg)) / (1 - std::sin(30 * deg));
-  const double N_psi = (1 + std::sin(10 * deg)) / (1 - std::sin(10 * deg));
-  const double peak = -(N_phi * 100e3 + 2 * 10e3 * std::sqrt(N_phi));
-  double worst = 0.0, t_first = 0.0, t_last = 0.0, exx_first = 0.0, exx_last = 0.0;
-  run_simulation<2>(m, c, no_output(), [&](const ExplicitSolver<2>& s) {
-    const double t = s.time();
-    if (t < 0.15) return;  // every point yields at about 1.1 % (t = 0.11)
-    worst = std::max({worst, std::abs(rec[1].value(s) / peak - 1), std::abs(rec[2].value(s) / peak - 1)});
-    if (t_first == 0.0 && t >= 0.3) t_first = t, exx_first = rec[0].value(s);
-    t_last = t, exx_last = rec[0].value(s);
-  });
-  std::printf("dilatant element: worst point %.2e from the peak; lateral rate %.4f (N_psi %.4f)\n", worst,
-              (exx_last - exx_first) / (0.1 * (t_last - t_first)), N_psi);
-  EXPECT_LT(worst, 0.01) << "every point within 1 % of the Mohr-Coulomb peak from 1.5 to 6 % axial strain";
+  const double N_psi = (1 + std::sin(10 * std::numbers::pi / 180)) / (1 - std::sin(10 * std::numbers::pi / 180));
+  const DilatantRun r = run_dilatant_element<2>(c);
+  const double rate = (r.exx_last - r.exx_first) / (0.1 * (r.t_last - r.t_first));
+  std::printf("dilatant element 2D: worst point %.2e from the peak; lateral rate %.4f (N_psi %.4f)\n", r.worst, rate,
+              N_psi);
+  EXPECT_LT(r.worst, 0.01) << "every point within 1 % of the Mohr-Coulomb peak from 1.5 to 6 % axial strain";
   // eps_yy = -0.1 t: the widening per unit of shortening, from 3 to 6 %.
-  EXPECT_NEAR((exx_last - exx_first) / (0.1 * (t_last - t_first)), N_psi, 0.02 * N_psi);
+  EXPECT_NEAR(rate, N_psi, 0.02 * N_psi);
+
+  // 3D, triaxial compression: x and z widen alike.
+  std::string text = kDilatantElement;
+  const auto swap = [&](const std::string& from, const std::string& to) { text.replace(text.find(from), from.size(), to); };
+  swap("dimension = 2", "dimension = 3");
+  swap("origin = [0.0, 0.0]", "origin = [0.0, 0.0, 0.0]");
+  swap("extent = [0.1, 0.12]", "extent = [0.1, 0.125, 0.1]");
+  swap("cell_size = 0.01", "cell_size = 0.025");
+  swap("min = [0.0, 0.0]", "min = [0.0, 0.0, 0.0]");
+  swap("max = [0.05, 0.1]", "max = [0.05, 0.1, 0.05]");
+  swap("y = [0.0, -0.1]", "y = [0.0, -0.1, 0.0]");
+  swap("y_min = \"roller\"", "y_min = \"roller\"\nz_min = \"roller\"");
+  const DilatantRun r3 = run_dilatant_element<3>(read_config_string(text, "element_3d.toml"));
+  // Triaxial compression at the edge of the surface: eps_xx = eps_zz, d eps_v^p = (1 - N_psi) d eps_1^p,
+  // so d eps_xx / d eps_yy = -N_psi / 2.
+  const double rate3 = (r3.exx_last - r3.exx_first) / (0.1 * (r3.t_last - r3.t_first));
+  std::printf("dilatant element 3D: worst point %.2e from the peak; lateral rate %.4f (N_psi / 2 %.4f)\n", r3.worst,
+              rate3, N_psi / 2);
+  EXPECT_LT(r3.worst, 0.01);
+  EXPECT_NEAR(rate3, N_psi / 2, 0.02 * N_psi);
 }
 
 // A cohesionless block pulled apart (no gravity, v = 0.5 x along x): every point fails in tension

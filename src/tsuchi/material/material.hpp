@@ -29,7 +29,7 @@
 //   static constexpr bool reads_own_elasticity;   true: the material reader reads no moduli and
 //                                     passes a default LinearElastic (the model's reader reads its own),
 //   double dilatancy_angle() const;   the largest dilatancy angle (rad) its plastic flow takes:
-//                                     a dilatant material takes the symmetric anti-locking pair by
+//                                     a dilatant material takes no volumetric-strain average by
 //                                     default (model/config.hpp, anti_locking_of),
 // and
 // with a reader of its input parameters beside it, in namespace tsuchi,

@@ -185,7 +185,7 @@ struct SolverConfig {
   double pic_fraction = 0.0;       // 0 = pure FLIP, 1 = pure PIC
   VelocityTransfer velocity_transfer = VelocityTransfer::Apic;  // APIC only with pic_fraction = 0
   // Every material's, unless materials.N.anti_locking says; when the input gives none, a material
-  // whose plastic flow dilates takes Bbar instead (anti_locking_of below).
+  // whose plastic flow dilates takes None instead (anti_locking_of below).
   AntiLocking anti_locking = AntiLocking::Node;
   bool anti_locking_given = false;  // solver.anti_locking was in the input
   // A particle whose stress the last update released in tension keeps its volume when the step
@@ -356,17 +356,22 @@ struct Config {
 };
 
 // The remedy material k takes: materials.N.anti_locking, else solver.anti_locking where the input
-// gives it, else Node, or Bbar for a material whose plastic flow dilates (psi > 0). With Node the
-// strain average (V3) and the force are not a symmetric pair, and dilatant flow feeds a mode whose
-// own volume change the average removes: for Mohr-Coulomb in plane strain the work of the mode
-// that stretches a yielding point along its minor stress is negative when
+// gives it, else Node, or None for a material whose plastic flow dilates (psi > 0). An average of
+// the volumetric strain cannot follow the dilation of the points that shear (a band's points
+// must swell, their neighbours not), so it compresses them elastically and raises their strength:
+// the paper's triaxial test 1 at psi = 10 deg peaked 20 % above Mohr-Coulomb with Node or Bbar and
+// 1.7 % above with None. And the averaged pairs run away on a homogeneous element of dilatant
+// Mohr-Coulomb: with Node in plane strain, where the mode stretching a yielding point along its
+// minor stress does negative work once
 //   sin psi > (1 - 2 nu) / 3                                                                   (V6)
-// (docs/input.md, [solver]; a homogeneous plane-strain test at psi = 10 deg, nu = 0.3 blows up
-// after the peak). Bbar, the symmetric pair, keeps it (tests/numerics_test.cpp).
+// (psi = 10 deg, nu = 0.3: particle stresses -40 to -480 kPa about a peak of -335), and with Node
+// and Bbar in 3D (triaxial compression, from psi = 0 for Bbar); None holds every point on the peak
+// (tests/numerics_test.cpp, docs/input.md [solver]). A dilatant flow is not isochoric, so the
+// locking the averages are for is smaller.
 inline AntiLocking anti_locking_of(const Config& c, std::size_t k) {
   if (k < c.material_anti_locking.size() && c.material_anti_locking[k]) return *c.material_anti_locking[k];
   if (c.solver.anti_locking_given) return c.solver.anti_locking;
-  return k < c.materials.size() && dilatancy_angle_of(c.materials[k]) > 0.0 ? AntiLocking::Bbar : AntiLocking::Node;
+  return k < c.materials.size() && dilatancy_angle_of(c.materials[k]) > 0.0 ? AntiLocking::None : AntiLocking::Node;
 }
 
 const char* to_string(Scheme s);

@@ -251,8 +251,16 @@ int run(const Config& c, const Options& o) {
   };
   const RunSummary s = run_simulation<D>(m, c, ro);
   if (!o.quiet && !c.staged()) reporter.finish(last);
-  const double rate = s.wall_seconds > 0 ? static_cast<double>(s.steps) * static_cast<double>(m.particles.size()) / s.wall_seconds : 0.0;
+  // The steps of this process: a restart's earlier steps took no time here.
+  const double rate =
+      s.wall_seconds > 0 ? static_cast<double>(s.steps_taken) * static_cast<double>(m.particles.size()) / s.wall_seconds : 0.0;
   if (!s.stopped_by.empty()) fmt::print("stopped: {}\n", s.stopped_by);
+  // A single-stage run cut short by its step limit: say so, as a staged run does (not an error:
+  // the limit is the input's own).
+  if (s.stopped_by.empty() && !c.staged() && c.time.max_steps > 0 && s.steps >= c.time.max_steps &&
+      s.time < c.time.end * (1.0 - 1e-12))
+    fmt::print("stopped: time.max_steps = {} reached at t = {:.6g} s, before time.end = {:.6g} s\n", c.time.max_steps,
+               s.time, c.time.end);
   if (!s.checkpoint.empty()) fmt::print("checkpoint: {}\n", s.checkpoint);
   fmt::print("done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s); {} frames in {}\n", s.steps,
              s.time, s.wall_seconds, rate, s.frames, s.directory);

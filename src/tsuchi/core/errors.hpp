@@ -24,6 +24,7 @@ enum class Fault {
 struct RunError : std::runtime_error {
   RunError(const std::string& message, Fault kind = Fault::Other) : std::runtime_error(message), fault(kind) {}
   Fault fault;
+  double suggested_dt = 0.0;  // a fixed time.dt above the stable limit: the one the message suggests
 };
 
 // Writing results failed (disk full, directory not writable, ...).

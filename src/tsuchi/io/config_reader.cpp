@@ -667,6 +667,7 @@ void read_reaction_target(Section& s, const Config& c, RecorderConfig& r) {
 
 void read_recorder(Section& s, Config& c) {
   RecorderConfig r;
+  r.where = where(s.file(), s.raw().source());
   const int dim = c.dimension;
   r.name = s.string("name", "a column name (letters, digits, _)");
   const bool valid = !r.name.empty() && !std::isdigit(static_cast<unsigned char>(r.name[0])) &&

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <cctype>
 #include <sstream>
 
 namespace tsuchi::io {
@@ -27,8 +28,16 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
   try {
     parsed = toml::parse(std::string_view(std::string("v = ") + value), std::string_view("override"));
   } catch (const toml::parse_error& e) {
-    throw InputError(fmt::format("{}: override '{}': the value is not valid TOML ({})", file,
-                                 printable(assignment), e.description()));
+    // A bare word is the usual slip: a string needs TOML's quotes, which the shell eats unless the
+    // whole assignment is quoted too.
+    const auto first = value.find_first_not_of(" \t");
+    const bool bare_word = first != std::string::npos && std::isalpha(static_cast<unsigned char>(value[first])) &&
+                           value.find_first_of("\"'[{") == std::string::npos;
+    throw InputError(fmt::format("{}: override '{}': the value is not valid TOML ({}){}", file, printable(assignment),
+                                 e.description(),
+                                 bare_word ? fmt::format("; a string needs quotes, in the shell: --set '{}=\"{}\"'",
+                                                         path, value.substr(first))
+                                           : std::string{}));
   }
   std::vector<std::string> parts;
   std::stringstream ss(path);

@@ -266,6 +266,7 @@ struct RecorderConfig {
   Reduction reduction = Reduction::Mean;
   double scale = 1.0, offset = 0.0;
   std::optional<double> stop_above, stop_below;
+  std::string where;  // "FILE:LINE:COL" of the table, for the errors found when the model is built
 };
 
 struct Config;

@@ -45,7 +45,7 @@ std::vector<std::size_t> support_nodes(const RecorderConfig& c, std::size_t inde
     throw InputError(fmt::format("{}: key 'recorders.{}': recorder \"{}\": no node of {} holds the {} component, so "
                                  "its {} is 0; expected a {} whose condition ([boundary], [[boundary.nodes]] fix, "
                                  "velocity or acceleration) holds {}",
-                                 model.source, index, c.name, what, "xyz"[axis], c.quantity,
+                                 c.where.empty() ? model.source : c.where, index, c.name, what, "xyz"[axis], c.quantity,
                                  c.face >= 0 ? "face" : "node set", "xyz"[axis]));
   return r;
 }
@@ -78,7 +78,7 @@ Recorder<D>::Recorder(const RecorderConfig& config, std::size_t index, const Mod
   if (reduce::sum(static_cast<double>(count_)) == 0.0)
     throw InputError(fmt::format("{}: key 'recorders.{}': recorder \"{}\" selects no particle: no particle of {} starts "
                                  "inside its box; expected a box (min, max) around some initial particle positions",
-                                 model.source, index, c_.name,
+                                 c_.where.empty() ? model.source : c_.where, index, c_.name,
                                  c_.body >= 0 ? fmt::format("body \"{}\"", model.body_names[static_cast<std::size_t>(c_.body)])
                                               : std::string("any body")));
 }
@@ -94,7 +94,7 @@ void Recorder<D>::rebind(const Model<D>& model) {
   if (c_.node_set >= 0 && static_cast<std::size_t>(c_.node_set) >= model.node_sets.size())
     throw InputError(fmt::format("{}: key 'recorders.{}': recorder \"{}\" records the reaction of node set {}, which the "
                                  "boundary no longer has (a stage replaced [[boundary.nodes]])",
-                                 model.source, index_in_input_, c_.name, c_.node_set + 1));
+                                 c_.where.empty() ? model.source : c_.where, index_in_input_, c_.name, c_.node_set + 1));
   if ((c_.face >= 0 && wall_ < 0) || c_.node_set >= 0) held_ = support_nodes<D>(c_, index_in_input_, model);
   scanned_size_ = static_cast<std::size_t>(-1);
 }

@@ -31,14 +31,19 @@ double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step,
   if (*time.dt > dt_crit) {
     // --set cannot remove time.dt from the file, so the advice that works from the command line
     // is a smaller time.dt; time.courant needs an edit of the file.
+    // Half the step, or less when that is still above 0.9 of the limit: a limit that fell during a
+    // run (particles speeding up) may go on falling. The restart command of a fault names the same.
+    const double smaller = std::min(0.5 * *time.dt, 0.9 * dt_crit);
     const std::string msg = fmt::format(
         "time.dt = {:.6g} s is above the stable limit {:.6g} s (cell size / (P-wave speed + particle speed)); set "
         "a smaller time.dt (--set time.dt={:.3g}), or replace time.dt by time.courant in {}",
-        *time.dt, dt_crit, 0.9 * dt_crit, source);
+        *time.dt, dt_crit, smaller, source);
     if (step == 0)
       throw InputError(time.dt_where.empty() ? fmt::format("{}: {}", source, msg)
                                              : fmt::format("{}: key 'time.dt': {}", time.dt_where, msg));
-    throw RunError(msg, Fault::UnstableStep);
+    RunError e(msg, Fault::UnstableStep);
+    e.suggested_dt = smaller;
+    throw e;
   }
   return *time.dt;
 }
@@ -389,9 +394,10 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
             dt = next_time_step(tc, critical_time_step<D>(model.particles, model.materials, model.grid.h),
                                 solver->steps(), config.source);
           } catch (const RunError& e) {
-            const RunError located(fmt::format("step {} (t = {:.6g} s): {}: {}", solver->steps() + 1, solver->time(),
-                                               solver->describe_particle(limiting_particle(model.particles, model.materials)), e.what()),
-                                   e.fault);
+            RunError located(fmt::format("step {} (t = {:.6g} s): {}: {}", solver->steps() + 1, solver->time(),
+                                         solver->describe_particle(limiting_particle(model.particles, model.materials)), e.what()),
+                             e.fault);
+            located.suggested_dt = e.suggested_dt;
             // The state is still that of a good step: worth saving for a restart with a smaller dt.
             if (e.fault == Fault::UnstableStep && out) {
               save();
@@ -556,8 +562,10 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
     if (saved.first < 0) throw;
     throw RunError(fmt::format("{}\nthe latest checkpoint is step {}: {} (continue with {}{} --restart {})", e.what(),
                                saved.first, saved.second, options.resume_command,
+                               // the time step the message above suggests, when it gave one
                                e.fault == Fault::UnstableStep && stage_config().time.dt
-                                   ? fmt::format(" --set time.dt={:.3g}", 0.5 * *stage_config().time.dt)
+                                   ? fmt::format(" --set time.dt={:.3g}",
+                                                 e.suggested_dt > 0.0 ? e.suggested_dt : 0.5 * *stage_config().time.dt)
                                    : std::string{},
                                shell_word(saved.second)),
                    e.fault);
@@ -583,6 +591,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   }
   RunSummary s;
   s.steps = solver->steps();
+  s.steps_taken = solver->steps() - start.steps;
   s.time = solver->time();
   s.wall_seconds = std::chrono::duration<double>(clock::now() - wall_start).count();
   s.frames = out ? out->frames_written() : 0;

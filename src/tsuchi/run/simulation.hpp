@@ -49,7 +49,8 @@ struct RunOptions {
 };
 
 struct RunSummary {
-  std::int64_t steps = 0;
+  std::int64_t steps = 0;        // the step count at the end (a restart's included)
+  std::int64_t steps_taken = 0;  // the steps this process took: steps less a restart's
   double time = 0.0;
   double wall_seconds = 0.0;
   std::size_t frames = 0;

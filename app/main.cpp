@@ -108,9 +108,19 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
     const BodyConfig& bc = c.bodies[b];
     std::string materials = fmt::format("material \"{}\"", bc.material);
     for (const auto& r : bc.regions) materials += fmt::format(", \"{}\" in a {}", r.material, r.kind);
-    fmt::print("body       {:<16} {:>9} particles, {} {:.6g} {}, {}{}\n", bc.name, m.body_particles[b],
+    // A free rigid body moves with its rigid_mass, not with its particles' mass: say both.
+    std::string rigid;
+    if (bc.rigid_mass > 0.0) {
+      double particle_mass = 0.0;
+      for (std::size_t i = 0; i < m.particles.size(); ++i)
+        if (static_cast<std::size_t>(m.particles.body_p[i]) == b) particle_mass += m.particles.m_p[i];
+      rigid = fmt::format(", free rigid body of mass {:.6g} {} (its particles' {:.6g})", bc.rigid_mass,
+                          D == 2 ? "kg/m" : "kg", particle_mass);
+    }
+    fmt::print("body       {:<16} {:>9} particles, {} {:.6g} {}, {}{}{}\n", bc.name, m.body_particles[b],
                bc.shape_kind == "file" ? "from a file," : fmt::format("a {},", bc.shape_kind), m.body_volume[b],
-               D == 2 ? "m^2" : "m^3", materials, bc.priority != 0 ? fmt::format(", priority {}", bc.priority) : "");
+               D == 2 ? "m^2" : "m^3", materials, bc.priority != 0 ? fmt::format(", priority {}", bc.priority) : "",
+               rigid);
   }
   fmt::print("particles  {}\n", m.particles.size());
   print_contact<D>(c, m);

@@ -29,7 +29,7 @@ struct LinearElastic {
   Voigt<D> stress_increment(const Voigt<D>& d_eps) const {
     const double lambda_tr = (K - 2.0 * G / 3.0) * trace<D>(d_eps);
     Voigt<D> ds = 2.0 * G * d_eps;
-    for (int i = 0; i < 3; ++i) ds[i] += lambda_tr;
+    add_to_normal_entries<D>(ds, lambda_tr);  // by pairs (core/tensor.hpp)
     return ds;
   }
 

@@ -8,11 +8,10 @@ namespace tsuchi {
 
 inline void jaumann_rotate(Voigt<2>& s, const Mat<2>& dw) {
   const double w = dw(0, 1);  // the only independent spin component in the plane
-  const double sxx = s[0], syy = s[1], sxy = s[3];
-  s[0] = sxx + 2.0 * w * sxy;
-  s[1] = syy - 2.0 * w * sxy;
-  s[3] = sxy + w * (syy - sxx);
-  // sigma_zz is unchanged: the spin is about z.
+  const double sxx = s[0], syy = s[1], szz = s[2], sxy = s[3];
+  // sigma_zz is unchanged: the spin is about z. Written by pairs (core/tensor.hpp, store_pair).
+  store_pair<2>(s, 0, sxx + 2.0 * w * sxy, syy - 2.0 * w * sxy);
+  store_pair<2>(s, 2, szz, sxy + w * (syy - sxx));
 }
 
 // With sigma symmetric and d_omega antisymmetric (exactly: its entries are 0.5 dt (L_ij - L_ji)),

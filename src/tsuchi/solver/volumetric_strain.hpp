@@ -58,7 +58,7 @@ template <int D>
 template <int D>
 [[gnu::always_inline]] inline void replace_volumetric_strain(Voigt<D>& d_eps, double volumetric) {
   const double shift = (volumetric - trace<D>(d_eps)) / 3.0;
-  for (int d = 0; d < 3; ++d) d_eps[d] += shift;
+  add_to_normal_entries<D>(d_eps, shift);  // by pairs (core/tensor.hpp)
 }
 
 }  // namespace tsuchi

@@ -1,4 +1,5 @@
 #include "element_command.hpp"
+#include "console.hpp"
 
 #include "tsuchi/core/version.hpp"
 
@@ -41,17 +42,18 @@ std::string kpa(double pa) { return fmt::format("{:.5g} kPa", pa / 1e3); }
 
 int run_element_command(const ElementOptions& o) {
   const io::ElementInput in = io::read_element_file(o.file, o.overrides);
-  for (const auto& w : in.warnings) fmt::print(stderr, "warning: {}\n", w);
+  for (const auto& w : in.warnings) say(stderr, "warning: {}\n", w);
   const std::string out = output_path(o);
   refuse_overwriting_input(o.file, out);
+  refuse_unless_regular_file(out, "the output file");  // -o /dev/full would be replaced by a file
   if (const fs::path dir = fs::path(out).parent_path(); !dir.empty()) prepare_output_directory(dir.string());
 
   const std::string material = io::describe_material(in.material);
   if (!o.quiet) {
-    fmt::print("element    {}{}\n", in.source, in.title.empty() ? "" : fmt::format(" ({})", in.title));
-    fmt::print("material   {}\n", material);
-    fmt::print("path       {}\n", in.path.description);
-    fmt::print("output     {} ({} rows)\n", out, in.path.total_increments() + 1);
+    say("element    {}{}\n", in.source, in.title.empty() ? "" : fmt::format(" ({})", in.title));
+    say("material   {}\n", material);
+    say("path       {}\n", in.path.description);
+    say("output     {} ({} rows)\n", out, in.path.total_increments() + 1);
   }
 
   std::vector<ElementRow> rows;
@@ -85,9 +87,9 @@ int run_element_command(const ElementOptions& o) {
   };
   const auto [q, q_at] = peak([](const ElementRow& r) { return r.q(); });
   const auto [d, d_at] = peak([](const ElementRow& r) { return r.deviator(); });
-  fmt::print("peak       q = {} (first reached at increment {}), deviator = {} (increment {})\n", kpa(q), q_at,
+  say("peak       q = {} (first reached at increment {}), deviator = {} (increment {})\n", kpa(q), q_at,
              kpa(d), d_at);
-  fmt::print("done: {} rows in {}\n", rows.size(), out);
+  say("done: {} rows in {}\n", rows.size(), out);
   return exit_code::ok;
 }
 

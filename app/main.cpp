@@ -4,6 +4,7 @@
 // 5 internal error, 6 non-finite state, 7 particle left the grid, 8 volume collapse, 9 unstable
 // time step, 128 + signal when interrupted (the state is saved first).
 #include "element_command.hpp"
+#include "console.hpp"
 #include "progress.hpp"
 
 #include "tsuchi/core/errors.hpp"
@@ -31,6 +32,8 @@
 #include <csignal>
 #include <cstdio>
 #include <string_view>
+
+using tsuchi::app::say;
 
 namespace {
 
@@ -63,15 +66,15 @@ void print_contact(const Config& c, const Model<D>& m) {
       const int rigid = k.rigid_body[static_cast<std::size_t>(f)];
       fields += fmt::format("{}{}{}", f ? " | " : "", names, rigid >= 0 ? " (rigid)" : "");
     }
-    fmt::print("contact    {} velocity fields: {}\n", k.fields, fields);
+    say("contact    {} velocity fields: {}\n", k.fields, fields);
   } else if (!c.contacts.empty()) {
-    fmt::print("contact    bonded pairs only: one velocity field, as without contact\n");
+    say("contact    bonded pairs only: one velocity field, as without contact\n");
   }
   if (k.fields > 0)
-    for (const auto& p : c.contacts) fmt::print("           {} | {}: {}\n", name(p.body_a), name(p.body_b), law(p));
+    for (const auto& p : c.contacts) say("           {} | {}: {}\n", name(p.body_a), name(p.body_b), law(p));
   for (const auto& w : k.walls) {
     const double mu = w.friction;
-    fmt::print("wall       {}_{}: frictional wall, {}\n", "xyz"[w.face / 2], w.face % 2 ? "max" : "min",
+    say("wall       {}_{}: frictional wall, {}\n", "xyz"[w.face / 2], w.face % 2 ? "max" : "min",
                std::isinf(mu) ? std::string("rough (no slip)") : fmt::format("mu {}", mu));
   }
 }
@@ -81,7 +84,7 @@ void print_stages(const Config& c);
 // [fos]: what `tsuchi fos` would do after the analysis.
 void print_fos(const Config& c) {
   const FosConfig& f = c.fos;
-  fmt::print("fos        after {}: c and tan(phi) divided by F{}, F from [{:g}, {:g}] to {:g} %, {} trial{} a round; a "
+  say("fos        after {}: c and tan(phi) divided by F{}, F from [{:g}, {:g}] to {:g} %, {} trial{} a round; a "
              "trial stands at ratio < {:g}, fails {}after {} steps\n",
              f.after_stage >= 0 ? fmt::format("stage \"{}\"", c.stages[static_cast<std::size_t>(f.after_stage)].name)
                                 : std::string("the run"),
@@ -96,14 +99,14 @@ template <int D>
 void print_summary(const Config& c, const Model<D>& m, const std::string& output_dir) {
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
   const double dt = next_time_step(c.time, dt_crit, 0, c.source);
-  fmt::print("tsuchi     {}\n", version);
-  fmt::print("model      {}{}\n", c.source, c.title.empty() ? "" : fmt::format(" ({})", c.title));
-  fmt::print("dimension  {}\n", D == 2 ? "2 (plane strain)" : "3");
+  say("tsuchi     {}\n", version);
+  say("model      {}{}\n", c.source, c.title.empty() ? "" : fmt::format(" ({})", c.title));
+  say("dimension  {}\n", D == 2 ? "2 (plane strain)" : "3");
   std::string cells;
   for (int d = 0; d < D; ++d) cells += fmt::format("{}{}", d ? " x " : "", c.grid.cells[d]);
-  fmt::print("grid       {} cells of {} m, {} nodes\n", cells, m.grid.h, m.grid.node_count());
+  say("grid       {} cells of {} m, {} nodes\n", cells, m.grid.h, m.grid.node_count());
   // The model's materials: set for the grid (material.hpp, with_cell_size).
-  for (const auto& mat : m.materials) fmt::print("material   {}\n", io::describe_material(mat));
+  for (const auto& mat : m.materials) say("material   {}\n", io::describe_material(mat));
   for (std::size_t b = 0; b < c.bodies.size(); ++b) {
     const BodyConfig& bc = c.bodies[b];
     std::string materials = fmt::format("material \"{}\"", bc.material);
@@ -117,14 +120,14 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
       rigid = fmt::format(", free rigid body of mass {:.6g} {} (its particles' {:.6g})", bc.rigid_mass,
                           D == 2 ? "kg/m" : "kg", particle_mass);
     }
-    fmt::print("body       {:<16} {:>9} particles, {} {:.6g} {}, {}{}{}\n", bc.name, m.body_particles[b],
+    say("body       {:<16} {:>9} particles, {} {:.6g} {}, {}{}{}\n", bc.name, m.body_particles[b],
                bc.shape_kind == "file" ? "from a file," : fmt::format("a {},", bc.shape_kind), m.body_volume[b],
                D == 2 ? "m^2" : "m^3", materials, bc.priority != 0 ? fmt::format(", priority {}", bc.priority) : "",
                rigid);
   }
-  fmt::print("particles  {}\n", m.particles.size());
+  say("particles  {}\n", m.particles.size());
   print_contact<D>(c, m);
-  fmt::print("solver     {}, {} shape functions, {}, anti-locking {}, damping {}\n", to_string(c.solver.scheme),
+  say("solver     {}, {} shape functions, {}, anti-locking {}, damping {}\n", to_string(c.solver.scheme),
              to_string(c.solver.shape),
              c.solver.velocity_transfer == VelocityTransfer::Apic ? std::string("APIC transfer")
                                                                    : fmt::format("FLIP, PIC fraction {}", c.solver.pic_fraction),
@@ -132,21 +135,21 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
   // Each material whose remedy is not the line above's: its own key, or a dilatant material's default.
   for (std::size_t k = 0; k < c.materials.size(); ++k)
     if (const AntiLocking a = anti_locking_of(c, k); a != c.solver.anti_locking)
-      fmt::print("           material \"{}\": anti-locking {}{}\n", c.materials[k].name, to_string(a),
+      say("           material \"{}\": anti-locking {}{}\n", c.materials[k].name, to_string(a),
                  k < c.material_anti_locking.size() && c.material_anti_locking[k] ? "" : " (dilatant: the default)");
-  fmt::print("time step  {:.4g} s ({}; stable limit {:.4g} s)\n", dt,
+  say("time step  {:.4g} s ({}; stable limit {:.4g} s)\n", dt,
              c.time.courant ? fmt::format("Courant {}", *c.time.courant) : std::string("fixed"), dt_crit);
   if (c.staged()) {
     print_stages(c);
     if (c.fos.given) print_fos(c);
-    fmt::print("output     {} (a frame at the end of each stage{}; stages.csv)\n", output_dir,
+    say("output     {} (a frame at the end of each stage{}; stages.csv)\n", output_dir,
                c.output.interval > 0 ? fmt::format(" and every {} s", c.output.interval) : std::string{});
   } else {
     if (c.fos.given) print_fos(c);
     print_length(c, dt, output_dir);
   }
-  fmt::print("memory     about {:.1f} MB\n", static_cast<double>(m.bytes()) / 1e6);
-  fmt::print("threads    {}\n", omp_get_max_threads());
+  say("memory     about {:.1f} MB\n", static_cast<double>(m.bytes()) / 1e6);
+  say("threads    {}\n", omp_get_max_threads());
 }
 
 // A staged run: each stage, what it changes and how it ends.
@@ -182,7 +185,7 @@ void print_stages(const Config& c) {
     if (!st.changes_motion.empty()) changes.push_back("motion of " + names(st.changes_motion));
     std::string change_text;
     for (const auto& x : changes) change_text += (change_text.empty() ? "" : ", ") + x;
-    fmt::print("stage {:<4} \"{}\": ends {}{}\n", k + 1, st.name, ends_text,
+    say("stage {:<4} \"{}\": ends {}{}\n", k + 1, st.name, ends_text,
                change_text.empty() ? std::string{} : fmt::format("; changes {}", change_text));
   }
 }
@@ -193,7 +196,7 @@ void print_length(const Config& c, double dt, const std::string& output_dir) {
   Config to_stop = c;
   if (stop) to_stop.time.end = stop->time;
   const RunLength length = estimate_run_length(to_stop, dt);
-  fmt::print("steps      about {:.0f} to t = {:.6g} s{}\n", length.steps, to_stop.time.end,
+  say("steps      about {:.0f} to t = {:.6g} s{}\n", length.steps, to_stop.time.end,
              c.time.max_steps > 0 && length.steps >= static_cast<double>(c.time.max_steps)
                  ? fmt::format(" (stopped by time.max_steps = {})", c.time.max_steps)
              : stop ? fmt::format(", where {} reaches {:g} and stops the run (time.end = {} s)", stop->recorder,
@@ -201,10 +204,10 @@ void print_length(const Config& c, double dt, const std::string& output_dir) {
                     : std::string{});
   for (const auto& r : c.recorders) {
     const char* note = stop ? "" : " (maybe before time.end: then fewer steps and frames than estimated here)";
-    if (r.stop_above) fmt::print("stop       when {} >= {:g}{}\n", r.name, *r.stop_above, note);
-    if (r.stop_below) fmt::print("stop       when {} <= {:g}{}\n", r.name, *r.stop_below, note);
+    if (r.stop_above) say("stop       when {} >= {:g}{}\n", r.name, *r.stop_above, note);
+    if (r.stop_below) say("stop       when {} <= {:g}{}\n", r.name, *r.stop_below, note);
   }
-  fmt::print("output     {} ({:.0f} frames{})\n", output_dir, length.frames,
+  say("output     {} ({:.0f} frames{})\n", output_dir, length.frames,
              c.output.global_interval > 0 ? fmt::format(", global.csv every {} s", c.output.global_interval)
                                           : ", global.csv every step");
 }
@@ -218,7 +221,7 @@ int check(const Config& c) {
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
   if (!c.staged()) check_run_length(c, next_time_step(c.time, dt_crit, 0, c.source));
   print_summary<D>(c, m, c.output.directory);
-  fmt::print("input is valid\n");
+  say("input is valid\n");
   return exit_code::ok;
 }
 
@@ -241,7 +244,7 @@ int run(const Config& c, const Options& o) {
   if (!o.output.empty()) ro.output_directory = o.output;
   if (!o.restart.empty()) {
     ro.restart = o.restart;
-    if (!o.quiet) fmt::print("restart    from {}\n", o.restart);
+    if (!o.quiet) say("restart    from {}\n", o.restart);
   }
   app::ProgressReporter reporter(stderr);
   Progress last;
@@ -251,12 +254,12 @@ int run(const Config& c, const Options& o) {
   };
   ro.on_stage_end = [&](const StageReport& r) {
     if (r.equilibrium_asked && r.end != "equilibrium")
-      fmt::print(stderr, "warning: stage \"{}\" reached {} before equilibrium; {}\n", r.name, r.end,
+      say(stderr, "warning: stage \"{}\" reached {} before equilibrium; {}\n", r.name, r.end,
                  r.stage < r.stages ? "the next stage starts from a state that is not at rest"
                                     : "the analysis ends in a state that is not at rest");
     if (o.quiet) return;
     reporter.finish(last);
-    fmt::print("stage {}/{} \"{}\": {} at step {} (t = {:.6g} s), {} steps, unbalanced-force ratio {:.3g}\n", r.stage,
+    say("stage {}/{} \"{}\": {} at step {} (t = {:.6g} s), {} steps, unbalanced-force ratio {:.3g}\n", r.stage,
                r.stages, r.name, r.end, r.end_step, r.end_time, r.end_step - r.start_step, r.unbalanced_force_ratio);
   };
   const RunSummary s = run_simulation<D>(m, c, ro);
@@ -264,15 +267,15 @@ int run(const Config& c, const Options& o) {
   // The steps of this process: a restart's earlier steps took no time here.
   const double rate =
       s.wall_seconds > 0 ? static_cast<double>(s.steps_taken) * static_cast<double>(m.particles.size()) / s.wall_seconds : 0.0;
-  if (!s.stopped_by.empty()) fmt::print("stopped: {}\n", s.stopped_by);
+  if (!s.stopped_by.empty()) say("stopped: {}\n", s.stopped_by);
   // A single-stage run cut short by its step limit: say so, as a staged run does (not an error:
   // the limit is the input's own).
   if (s.stopped_by.empty() && !c.staged() && c.time.max_steps > 0 && s.steps >= c.time.max_steps &&
       s.time < c.time.end * (1.0 - 1e-12))
-    fmt::print("stopped: time.max_steps = {} reached at t = {:.6g} s, before time.end = {:.6g} s\n", c.time.max_steps,
+    say("stopped: time.max_steps = {} reached at t = {:.6g} s, before time.end = {:.6g} s\n", c.time.max_steps,
                s.time, c.time.end);
-  if (!s.checkpoint.empty()) fmt::print("checkpoint: {}\n", s.checkpoint);
-  fmt::print("done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s); {} frames in {}\n", s.steps,
+  if (!s.checkpoint.empty()) say("checkpoint: {}\n", s.checkpoint);
+  say("done: {} steps to t = {:.6g} s in {:.2f} s ({:.3g} particle-steps/s); {} frames in {}\n", s.steps,
              s.time, s.wall_seconds, rate, s.frames, s.directory);
   return exit_code::ok;
 }
@@ -283,9 +286,9 @@ int fos(const Config& c, const Options& o) {
   FosOptions fo;
   fo.output_directory = o.output.empty() ? c.output.directory : o.output;
   fo.quiet = o.quiet;
-  fo.on_note = [&](const std::string& note) { fmt::print("{}\n", note); };
+  fo.on_note = [&](const std::string& note) { say("{}\n", note); };
   fo.on_trial = [&](const FosTrial& t) {
-    fmt::print("trial {:>3}  F = {:<10.6g} {:<6} ({}) after {} steps, largest displacement {:.4g} m, ratio {:.3g}, {:.1f} s\n",
+    say("trial {:>3}  F = {:<10.6g} {:<6} ({}) after {} steps, largest displacement {:.4g} m, ratio {:.3g}, {:.1f} s\n",
                t.index, t.factor, t.failed ? "fails" : "stands", t.reason, t.steps, t.max_displacement,
                t.unbalanced_force_ratio, t.wall_seconds);
   };
@@ -294,9 +297,9 @@ int fos(const Config& c, const Options& o) {
   check_stages<D>(m, c);
   if (!o.quiet) print_summary<D>(c, m, fo.output_directory);
   const FosResult r = factor_of_safety<D>(c, std::move(m), fo);
-  fmt::print("bracket: stands at F = {:.6g}, fails at F = {:.6g} ({} trials); trials, stable.vtu and mechanism.vtu in {}\n",
+  say("bracket: stands at F = {:.6g}, fails at F = {:.6g} ({} trials); trials, stable.vtu and mechanism.vtu in {}\n",
              r.lower, r.upper, r.trials.size(), r.directory);
-  fmt::print("factor of safety: {:.4g}\n", r.factor);
+  say("factor of safety: {:.4g}\n", r.factor);
   return exit_code::ok;
 }
 
@@ -312,14 +315,14 @@ void clamp_environment_threads() {
   errno = 0;
   const long n = std::strtol(env, &end, 10);
   if (end == env || (n <= max_threads && errno != ERANGE)) return;
-  fmt::print(stderr, "warning: OMP_NUM_THREADS={} is more than {} threads; using {}\n", env, max_threads, max_threads);
+  say(stderr, "warning: OMP_NUM_THREADS={} is more than {} threads; using {}\n", env, max_threads, max_threads);
   omp_set_num_threads(max_threads);
 }
 
 int dispatch(bool run_it, const Options& o, bool fos_it = false) {
   if (o.threads > 0) omp_set_num_threads(o.threads);
   const Config c = read_config_file(o.file, o.overrides);
-  for (const auto& w : c.warnings) fmt::print(stderr, "warning: {}\n", w);
+  for (const auto& w : c.warnings) say(stderr, "warning: {}\n", w);
   // A busy output directory stops a run before it builds its model (which may take long).
   if (run_it || fos_it) DirectoryLock::refuse_if_held(o.output.empty() ? c.output.directory : o.output);
   if (fos_it) return c.dimension == 2 ? fos<2>(c, o) : fos<3>(c, o);
@@ -338,15 +341,23 @@ int main(int argc, char** argv) {
       "Exit codes: 0 done (also when a recorder stops the run), 1 command line, 2 input, 3 run fault,\n"
       "  4 output (also: another run holds the output directory), 5 internal error, 6 non-finite state,\n"
       "  7 particle left the grid, 8 volume collapse, 9 time step above the stable limit,\n"
-      "  130 / 143 interrupted by SIGINT / SIGTERM after the state was saved.");
+      "  130 / 143 / 129 interrupted by SIGINT / SIGTERM / SIGHUP after the state was saved.");
   Options o;
+  // `-o "$OUT"` with OUT unset is `-o ''`: taken as "not given", the run would go to the input's
+  // output.directory and remove an earlier run's frames there. Refused, as --set output.directory="" is.
+  const CLI::Validator a_path(
+      [](std::string& v) {
+        return v.empty() ? std::string("expected a path, got an empty one (an unset shell variable?)") : std::string();
+      },
+      "PATH");
   auto* run_cmd = app.add_subcommand("run", "Run the model in an input file");
   run_cmd->add_option("file", o.file, "Input file (TOML)")->required();
-  run_cmd->add_option("-o,--output", o.output, "Output directory (overrides output.directory)");
+  run_cmd->add_option("-o,--output", o.output, "Output directory (overrides output.directory)")->check(a_path);
   run_cmd->add_option("-s,--set", o.overrides, "Override an input key, e.g. --set time.end=0.5")
       ->allow_extra_args(false);
   run_cmd->add_flag("-q,--quiet", o.quiet, "No summary or progress");
-  run_cmd->add_option("-r,--restart", o.restart, "Continue from a checkpoint written by a run of the same input");
+  run_cmd->add_option("-r,--restart", o.restart, "Continue from a checkpoint written by a run of the same input")
+      ->check(a_path);
   run_cmd->add_option("-j,--threads", o.threads, "Threads (default: OMP_NUM_THREADS, else every core); results do not depend on it")
       ->check(CLI::Range(1, max_threads));
   auto* check_cmd = app.add_subcommand("check", "Validate an input file and print the model summary");
@@ -356,7 +367,8 @@ int main(int argc, char** argv) {
   auto* fos_cmd = app.add_subcommand(
       "fos", "Run the analysis, then find its factor of safety by strength reduction ([fos] in the input)");
   fos_cmd->add_option("file", o.file, "Input file (TOML) with a [fos] table")->required();
-  fos_cmd->add_option("-o,--output", o.output, "Output directory (overrides output.directory); the search writes to its fos/");
+  fos_cmd->add_option("-o,--output", o.output, "Output directory (overrides output.directory); the search writes to its fos/")
+      ->check(a_path);
   fos_cmd->add_option("-s,--set", o.overrides, "Override an input key, e.g. --set fos.tolerance=0.005")->allow_extra_args(false);
   fos_cmd->add_flag("-q,--quiet", o.quiet, "No summary");
   fos_cmd->add_option("-j,--threads", o.threads, "Threads (default: OMP_NUM_THREADS, else every core); results do not depend on it")
@@ -365,7 +377,8 @@ int main(int argc, char** argv) {
   auto* element_cmd =
       app.add_subcommand("element", "Drive one material point along a stress/strain path (a lab test) to CSV");
   element_cmd->add_option("file", eo.file, "Element-test input file (TOML)")->required();
-  element_cmd->add_option("-o,--output", eo.output, "CSV file to write (default: FILE's name with .csv, here)");
+  element_cmd->add_option("-o,--output", eo.output, "CSV file to write (default: FILE's name with .csv, here)")
+      ->check(a_path);
   element_cmd->add_option("-s,--set", eo.overrides, "Override an input key, e.g. --set test.confining_pressure=1e5")
       ->allow_extra_args(false);
   element_cmd->add_flag("-q,--quiet", eo.quiet, "No summary, only the final lines");
@@ -380,24 +393,27 @@ int main(int argc, char** argv) {
   clamp_environment_threads();
   // A full disk or a file-size limit should be an error message, not a silent kill.
   std::signal(SIGXFSZ, SIG_IGN);
+  // A closed pipe (`tsuchi run ... | head -1`) must not kill a run: its writes to the terminal
+  // fail and are dropped (console.hpp), and its files and checkpoint are written on.
+  std::signal(SIGPIPE, SIG_IGN);
   try {
     if (element_cmd->parsed()) return tsuchi::app::run_element_command(eo);
     if (run_cmd->parsed()) install_interrupt_handlers();
     return dispatch(run_cmd->parsed(), o, fos_cmd->parsed());
   } catch (const InputError& e) {
-    fmt::print(stderr, "\nerror in input: {}\n", e.what());
+    say(stderr, "\nerror in input: {}\n", e.what());
     return exit_code::input;
   } catch (const RunError& e) {
-    fmt::print(stderr, "\nrun stopped: {}\n", e.what());
+    say(stderr, "\nrun stopped: {}\n", e.what());
     return exit_code::of(e.fault);
   } catch (const Interrupted& e) {
-    fmt::print(stderr, "\ninterrupted: {}\n", e.what());
+    say(stderr, "\ninterrupted: {}\n", e.what());
     return 128 + e.signal;
   } catch (const OutputError& e) {
-    fmt::print(stderr, "\noutput failed: {}\n", e.what());
+    say(stderr, "\noutput failed: {}\n", e.what());
     return exit_code::output;
   } catch (const std::exception& e) {
-    fmt::print(stderr, "\ninternal error: {}\n", e.what());
+    say(stderr, "\ninternal error: {}\n", e.what());
     return exit_code::internal;
   }
 }

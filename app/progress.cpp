@@ -1,5 +1,7 @@
 #include "progress.hpp"
 
+#include "console.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -63,9 +65,9 @@ void ProgressReporter::print(const Progress& p, bool final) {
   if (tty_) {
     constexpr int width = 24;
     const int filled = static_cast<int>(fraction * width);
-    fmt::print(out_, "\r[{}{}] {}\x1b[K", std::string(filled, '#'), std::string(width - filled, '.'), status);
+    say(out_, "\r[{}{}] {}\x1b[K", std::string(filled, '#'), std::string(width - filled, '.'), status);
   } else {
-    fmt::print(out_, "{}\n", status);
+    say(out_, "{}\n", status);
   }
   std::fflush(out_);
 }

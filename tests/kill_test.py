@@ -200,6 +200,34 @@ def main():
         check(p.returncode == 0, f"restart after SIGTERM failed: {out}")
         same_files(ref, d, "after SIGTERM")
 
+        # SIGHUP (a closed terminal or SSH session) is a SIGTERM: state saved, exit 129, lock
+        # released, and the restart ends identical (issue 41, defect 0). It used to end the run at
+        # once with no checkpoint and a stale lock.
+        d = os.path.join(tmp, "hung_up")
+        p = run(binary, inp, d)
+        time.sleep(0.4 * duration)
+        p.send_signal(signal.SIGHUP)
+        out, _ = p.communicate()
+        check(p.returncode == 128 + signal.SIGHUP, f"SIGHUP gave exit code {p.returncode}: {out}")
+        check(os.path.isfile(os.path.join(d, "checkpoint.tsuchi")), f"SIGHUP left no checkpoint: {out}")
+        check(not os.path.exists(os.path.join(d, ".tsuchi.lock")), "SIGHUP left the lock behind")
+        check_directory(d, "after SIGHUP")
+        p = run(binary, inp, d, "--restart", os.path.join(d, "checkpoint.tsuchi"))
+        out, _ = p.communicate()
+        check(p.returncode == 0, f"restart after SIGHUP failed: {out}")
+        same_files(ref, d, "after SIGHUP")
+
+        # A closed pipe (`tsuchi run ... | head -1`): the reader goes after the first line; the run
+        # writes on to the end with exit 0 and the same files, instead of dying by SIGPIPE.
+        d = os.path.join(tmp, "piped")
+        p = subprocess.Popen([binary, "run", inp, "-o", d], stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        p.stdout.readline()
+        p.stdout.close()
+        p.stderr.close()
+        p.wait(timeout=120)
+        check(p.returncode == 0, f"a run whose output pipe was closed: exit code {p.returncode}")
+        same_files(ref, d, "after the output pipe was closed")
+
         # SIGTERM twice, 10 ms apart (as `timeout` and batch schedulers do), at random moments: the
         # second signal must not cut the save short. Every time the exit code is 143, a complete
         # checkpoint is left, and the restart ends byte-identical to the uninterrupted run.

@@ -12,6 +12,7 @@ import os
 import re
 import shutil
 import signal
+import stat
 import subprocess
 import sys
 import tempfile
@@ -205,6 +206,60 @@ def main():
                 check(samples[-1] <= 1.1 * samples[0], f"resident memory grew from {samples[0]} to {samples[-1]} kB")
         print(f"checkpoint sizes after 2,000 and 20,000 rows: {sizes}")
         check(sizes[0] == sizes[1], f"the checkpoint grows with the rows: {sizes}")
+
+        # Issue 41, defect 0. Every file the input reads is guarded, and only regular files are
+        # replaced. (a) A checkpoint that would overwrite a function's CSV or a body's particle file.
+        rec = os.path.join(tmp, "record.csv")
+        open(rec, "w").write("time,g\n0.0,1.0\n1000.0,1.0\n")
+        fn_input = inp + ".fn.toml"
+        open(fn_input, "w").write(INPUT.replace("[model]", '[[functions]]\nname = "ramp"\nfile = "record.csv"\n\n[model]')
+                                  .replace("gravity = [0.0, -9.81]", 'gravity = [0.0, -9.81]\ngravity_function = "ramp"'))
+        out = os.path.join(tmp, "o41")
+        code, msg = run(binary, fn_input, "-o", out, "--set", "time.max_steps=5")
+        check(code == 0, f"the input with a record function does not run: exit {code}: {msg}")
+        shutil.rmtree(out, ignore_errors=True)
+        code, msg = run(binary, fn_input, "-o", out, "--set", f'checkpoint.file="{rec}"')
+        check(code == 2 and "key 'checkpoint.file'" in msg and "functions.0" in msg,
+              f"checkpoint.file = the function's CSV: exit {code}: {msg}")
+        check(open(rec).read() == "time,g\n0.0,1.0\n1000.0,1.0\n", "the function's CSV was changed")
+        check(not os.path.exists(out), "the refused run wrote its output directory")
+        # (b) A checkpoint or an element test's CSV that names a named pipe (as a device would):
+        #     the rename would have replaced it by a regular file.
+        fifo = os.path.join(tmp, "pipe")
+        os.mkfifo(fifo)
+        code, msg = run(binary, inp, "-o", out, "--set", f'checkpoint.file="{fifo}"')
+        check(code == 2 and "key 'checkpoint.file'" in msg and "named pipe" in msg,
+              f"checkpoint.file = a named pipe: exit {code}: {msg}")
+        element = os.path.join(tmp, "element.toml")
+        open(element, "w").write('[[materials]]\nname = "soil"\nmodel = "linear_elastic"\ndensity = 2000.0\n'
+                                 'youngs_modulus = 1.0e7\npoisson_ratio = 0.3\n\n[test]\ntype = "triaxial_compression"\n'
+                                 'confining_pressure = 1.0e5\naxial_strain = 0.01\nincrements = 10\n')
+        e = subprocess.run([binary, "element", element, "-q", "-o", fifo], stdout=subprocess.PIPE,
+                           stderr=subprocess.STDOUT, text=True, timeout=60)
+        check(e.returncode == 4 and "named pipe" in e.stdout, f"element -o a named pipe: exit {e.returncode}: {e.stdout}")
+        check(stat.S_ISFIFO(os.stat(fifo).st_mode), "the named pipe was replaced")
+        # (c) A body read from a frame of an earlier run into the same directory: the start-up
+        #     clean-up of that run's frames would delete the body's own input.
+        old = os.path.join(tmp, "old")
+        code, msg = run(binary, inp, "-o", old, "--set", "time.max_steps=20", "--set", "output.interval=1.0e-3",
+                        "--set", 'output.fields=["volume", "stress", "velocity"]')
+        frame = sorted(n for n in os.listdir(old) if n.endswith(".vtu"))[-1]
+        reuse = inp + ".reuse.toml"
+        open(reuse, "w").write(INPUT.replace('min = [0.1, 0.0]\nmax = [0.3, 0.6]', f'particles = "old/{frame}"'))
+        code, msg = run(binary, reuse, "-o", old, "--set", "time.max_steps=20")
+        check(code == 2 and "key 'bodies.0.particles'" in msg and "output" in msg,
+              f"a body read from a frame in the output directory: exit {code}: {msg}")
+        check(os.path.isfile(os.path.join(old, frame)), "the body's particle file was deleted")
+        code, msg = run(binary, reuse, "-o", os.path.join(tmp, "new"), "--set", "time.max_steps=20")
+        check(code == 0, f"the same body into another directory: exit {code}: {msg}")
+        # (d) An empty -o (an unset shell variable) is refused, not taken as output.directory.
+        for sub in (["run", inp], ["fos", inp], ["element", element]):
+            r = subprocess.run([binary, *sub, "-o", ""], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                               text=True, cwd=tmp, timeout=60)
+            check(r.returncode == 1 and "empty" in r.stdout, f"{sub[0]} -o '': exit {r.returncode}: {r.stdout}")
+        r = subprocess.run([binary, "run", inp, "--restart", ""], stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                           text=True, cwd=tmp, timeout=60)
+        check(r.returncode == 1 and "empty" in r.stdout, f"run --restart '': exit {r.returncode}: {r.stdout}")
 
         # 13. A restart into another directory, or whose end time has passed, is refused.
         d = os.path.join(tmp, "split")

@@ -44,9 +44,12 @@ void install_interrupt_handlers() {
   sigemptyset(&sa.sa_mask);
   sigaddset(&sa.sa_mask, SIGINT);  // one handler at a time: the count stays exact
   sigaddset(&sa.sa_mask, SIGTERM);
+  sigaddset(&sa.sa_mask, SIGHUP);
   sa.sa_flags = SA_RESTART;  // a write in progress goes on rather than failing with EINTR
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  // A closed terminal or SSH session: the same request to stop, with a checkpoint, not a kill.
+  sigaction(SIGHUP, &sa, nullptr);
 }
 
 int pending_interrupt() { return received; }

@@ -1,5 +1,5 @@
 #pragma once
-// SIGINT / SIGTERM as a request to stop: the handler only records the signal, and the time loop
+// SIGINT / SIGTERM / SIGHUP (a closed terminal) as a request to stop: the handler only records the signal, and the time loop
 // looks at it between steps, where the state is whole and can be saved. `timeout` and batch
 // schedulers often signal twice in quick succession, so a second signal while the state is not
 // yet saved is only counted: the save goes on. Once the checkpoint is complete (interrupt_saved())

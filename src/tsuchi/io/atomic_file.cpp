@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace tsuchi {
@@ -26,7 +27,27 @@ std::string temporary_name(const std::string& path) {
 
 }  // namespace
 
+std::string non_regular_file_kind(const std::string& path) {
+  struct ::stat st {};
+  if (::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return {};  // a new name, or a file
+  return S_ISDIR(st.st_mode)    ? "a directory"
+         : S_ISCHR(st.st_mode)  ? "a character device"
+         : S_ISBLK(st.st_mode)  ? "a block device"
+         : S_ISFIFO(st.st_mode) ? "a named pipe"
+         : S_ISSOCK(st.st_mode) ? "a socket"
+                                : "not a regular file";
+}
+
+void refuse_unless_regular_file(const std::string& path, const std::string& what) {
+  const std::string kind = non_regular_file_kind(path);
+  if (kind.empty()) return;
+  throw OutputError(fmt::format("cannot write {}{}: it is {}, and tsuchi writes a new file and renames it over the "
+                                "old one, which would replace it; give the name of a regular file or a new one",
+                                what.empty() ? "" : what + " ", path, kind));
+}
+
 void write_file_atomically(const std::string& path, std::string_view contents) {
+  refuse_unless_regular_file(path, "");
   const std::string tmp = temporary_name(path);
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) throw OutputError(fmt::format("cannot write {}: {}", path, std::strerror(errno)));

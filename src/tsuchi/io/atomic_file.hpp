@@ -7,8 +7,19 @@
 
 namespace tsuchi {
 
-// Throws OutputError naming the path and the system's reason on any failure.
+// Throws OutputError naming the path and the system's reason on any failure, and when `path`
+// exists and is not a regular file (a device such as /dev/null, a pipe, a directory), which the
+// rename would replace.
 void write_file_atomically(const std::string& path, std::string_view contents);
+
+// "a character device", "a named pipe", ... when `path` exists and is not a regular file; empty
+// when it is one or does not exist.
+std::string non_regular_file_kind(const std::string& path);
+
+// Throws OutputError when `path` exists and is not a regular file: what write_file_atomically
+// refuses, to be checked before a run rather than at its first write. `what` names the file in
+// the message ("the output file"; may be empty).
+void refuse_unless_regular_file(const std::string& path, const std::string& what);
 
 // Creates the directory (and parents) if needed; throws OutputError if it cannot be written to.
 void prepare_output_directory(const std::string& dir);

@@ -222,11 +222,11 @@ std::string shape_kind(Section& s) {
 }
 
 // The region a body fills (io/shape_reader.hpp), which must lie inside the grid.
-void read_body_shape(Section& s, const Config& c, BodyConfig& b, const std::string& directory) {
+void read_body_shape(Section& s, Config& c, BodyConfig& b, const std::string& directory) {
   const int dim = c.dimension;
   b.shape_kind = shape_kind(s);
   b.shape_key = s.has("shape") ? "shape" : "min";
-  b.shape = read_shape(s, dim, directory);
+  b.shape = read_shape(s, dim, directory, Extent::Bounded, &c.data_files);
   if (const toml::node* n = s.get(b.shape_key)) b.shape_where = where(s.file(), n->source());
   const geometry::Bounds bb = b.shape->bounds();
   for (int d = 0; d < dim; ++d) {
@@ -259,6 +259,7 @@ void read_particle_source(Section& s, Config& c, BodyConfig& b, const std::strin
                             "velocity_x, velocity_y(, velocity_z) columns");
   b.particles = read_particle_file(r);
   c.file_digests.push_back(b.particles->digest);  // a restart checks the particles too
+  c.data_files.push_back({r.path, fmt::format("{}: key '{}'", r.key_where, r.key)});
   b.shape_kind = "file";
   b.shape_key = "particles";
   b.shape_where = r.key_where;
@@ -287,7 +288,7 @@ void read_body(Section& s, Config& c, std::size_t index) {
     r.material = rs.string("material", "the name of a material");
     r.material_index = material_index(rs, c, r.material);
     r.kind = shape_kind(rs);
-    r.shape = read_shape(rs, dim, directory);
+    r.shape = read_shape(rs, dim, directory, Extent::Bounded, &c.data_files);
     rs.finish();
     b.regions.push_back(r);
   }

@@ -69,6 +69,7 @@ TimeFunction read_record(Section& s, Config& c) {
                                csv.rows[k][static_cast<std::size_t>(col[0])], csv.rows[k - 1][static_cast<std::size_t>(col[0])]));
   });
   c.file_digests.push_back(csv.digest);
+  c.data_files.push_back({csv.file, context});
   return TimeFunction::table(std::move(t), std::move(v));
 }
 

@@ -44,6 +44,20 @@ bool same_path(const fs::path& a, const fs::path& b) {
 
 }  // namespace
 
+bool is_output_file_name(const std::string& name) {
+  const auto numbered = [&](const std::string& head, const std::string& tail) {
+    if (name.size() <= head.size() + tail.size() || name.compare(0, head.size(), head) != 0 ||
+        name.compare(name.size() - tail.size(), tail.size(), tail) != 0)
+      return false;
+    return std::all_of(name.begin() + static_cast<std::ptrdiff_t>(head.size()),
+                       name.end() - static_cast<std::ptrdiff_t>(tail.size()),
+                       [](unsigned char c) { return c >= '0' && c <= '9'; });
+  };
+  return name == "particles.pvd" || name == "global.csv" || name == "recorders.csv" || name == "stages.csv" ||
+         name == "contact.pvd" || name == DirectoryLock::file_name || is_frame_file_name(name) ||
+         numbered("contact_", ".vtu") || numbered("particles_stage", ".pvd");
+}
+
 void check_output_paths(const Config& c, const std::string& directory, const std::string& checkpoint) {
   const fs::path dir(directory), ck(checkpoint), input(c.source);
   const std::string& at = c.checkpoint.file_where.empty() ? c.source : c.checkpoint.file_where;
@@ -54,23 +68,34 @@ void check_output_paths(const Config& c, const std::string& directory, const std
   std::error_code ec;
   if (same_path(ck, dir)) refuse(fmt::format("that is the output directory {}", directory));
   if (fs::is_directory(ck, ec)) refuse(fmt::format("{} is a directory", checkpoint));
+  if (const std::string kind = non_regular_file_kind(checkpoint); !kind.empty())
+    refuse(fmt::format("{} is {}, which the checkpoint (written as a new file renamed over the old) would replace by "
+                       "a regular file",
+                       checkpoint, kind));
   if (fs::exists(input, ec) && same_path(ck, input))
     refuse(fmt::format("{} is the input file, which the checkpoint would overwrite", checkpoint));
-  if (same_path(normal(ck).parent_path(), dir)) {
-    const std::string name = normal(ck).filename().string();
-    if (name == "particles.pvd" || name == "global.csv" || name == "recorders.csv" || is_frame_file_name(name) ||
-        name == DirectoryLock::file_name)
-      refuse(fmt::format("{} is one of the run's output files, which the checkpoint would overwrite", checkpoint));
-  }
-  // The input file itself in the output directory under the name of an output.
-  if (fs::exists(input, ec) && same_path(input.parent_path(), dir)) {
-    const std::string name = input.filename().string();
-    if (name == "particles.pvd" || name == "global.csv" || name == "recorders.csv" || is_frame_file_name(name))
-      throw InputError(fmt::format("{}: key 'output.directory': the input file is {}, an output file of this run in "
-                                   "that directory; move the input or choose another output directory",
-                                   c.output.directory_where.empty() ? c.source : c.output.directory_where,
-                                   c.source));
-  }
+  for (const DataFile& f : c.data_files)
+    if (same_path(ck, f.path))
+      refuse(fmt::format("{} is a data file the input reads ({}), which the checkpoint would overwrite", checkpoint,
+                         f.where));
+  if (same_path(normal(ck).parent_path(), dir) && is_output_file_name(normal(ck).filename().string()))
+    refuse(fmt::format("{} is one of the run's output files, which the checkpoint would overwrite", checkpoint));
+  // The input file, or a file it reads, in the output directory under the name of a file the run
+  // writes or removes there (the frames of an earlier run are removed at the start).
+  const auto output_named = [&](const fs::path& p) {
+    return fs::exists(p, ec) && same_path(normal(p).parent_path(), dir) && is_output_file_name(p.filename().string());
+  };
+  const std::string& dir_at = c.output.directory_where.empty() ? c.source : c.output.directory_where;
+  if (output_named(input))
+    throw InputError(fmt::format("{}: key 'output.directory': the input file is {}, an output file of this run in "
+                                 "that directory; move the input or choose another output directory",
+                                 dir_at, c.source));
+  for (const DataFile& f : c.data_files)
+    if (output_named(f.path))
+      throw InputError(fmt::format("{}: the file {} is in the output directory {} under the name of an output file, "
+                                   "which the run replaces or removes at its start; copy it elsewhere or choose "
+                                   "another output directory (-o or output.directory at {})",
+                                   f.where, f.path, directory, dir_at));
 }
 
 template <int D>

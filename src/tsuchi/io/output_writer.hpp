@@ -44,10 +44,13 @@ struct StageRow {
 
 // particles_NNNNNN.vtu (six or more digits): the name of a frame file.
 bool is_frame_file_name(const std::string& name);
+// A file a run writes or removes in its output directory: a frame, a .pvd, a CSV, the lock.
+bool is_output_file_name(const std::string& name);
 
 // Refuses (InputError naming the file, line and key) an output that would overwrite the input
-// file or another output of the run: the checkpoint file named as the input, the .pvd, a CSV, a
-// frame or a directory, or an input file inside the output directory under an output's name.
+// file, a data file it reads or another output of the run: the checkpoint file named as one of
+// those, as a directory or a device, or an input or data file inside the output directory under
+// the name of a file the run writes or removes there.
 void check_output_paths(const Config& config, const std::string& directory, const std::string& checkpoint);
 
 // What global.csv takes from the solver about the step that ends at a row's time.

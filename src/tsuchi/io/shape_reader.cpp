@@ -22,6 +22,7 @@ using geometry::Point;
 struct Context {
   int dim;
   const std::string& directory;
+  std::vector<DataFile>* files;  // the data files read, or nullptr
 };
 
 Point point_of(const Triple& t, int dim) {
@@ -125,6 +126,10 @@ geometry::ShapePtr read_stl_shape(Section& s, const Context& c) {
   } catch (const StlError& e) {
     s.fail("file", fmt::format("expected a readable STL file, got '{}': {}", printable(path.string(), 200), e.what()));
   }
+  if (c.files) {
+    const std::string at = s.located("file", "");
+    c.files->push_back({path.string(), at.substr(0, at.size() - 2)});
+  }
   for (auto& t : surface.triangles)
     for (Point& p : t) p = scale * p + offset;
   const auto name = [&surface](std::size_t k) { return surface.name(k); };
@@ -185,8 +190,9 @@ geometry::ShapePtr read_any(Section& s, const Context& c, int fallback) {
 
 }  // namespace
 
-geometry::ShapePtr read_shape(Section& s, int dim, const std::string& directory, Extent extent) {
-  const Context c{dim, directory};
+geometry::ShapePtr read_shape(Section& s, int dim, const std::string& directory, Extent extent,
+                              std::vector<DataFile>* files) {
+  const Context c{dim, directory, files};
   geometry::ShapePtr shape = read_any(s, c, 0);
   if (extent == Extent::Bounded) {
     const geometry::Bounds b = shape->bounds();

@@ -6,8 +6,10 @@
 // The kinds and their keys: docs/shapes.md; the table of kinds: shape_reader.cpp.
 #include "tsuchi/geometry/shape.hpp"
 #include "tsuchi/io/toml_section.hpp"
+#include "tsuchi/model/config.hpp"
 
 #include <string>
+#include <vector>
 
 namespace tsuchi::io {
 
@@ -16,8 +18,8 @@ namespace tsuchi::io {
 enum class Extent { Bounded, MayBeUnbounded };
 
 // `directory` is the folder of the input file, against which a relative file name (an STL
-// surface) is taken.
+// surface) is taken; each file read is added to `files` when given.
 geometry::ShapePtr read_shape(Section& s, int dimension, const std::string& directory,
-                              Extent extent = Extent::Bounded);
+                              Extent extent = Extent::Bounded, std::vector<DataFile>* files = nullptr);
 
 }  // namespace tsuchi::io

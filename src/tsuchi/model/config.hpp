@@ -318,6 +318,13 @@ struct FosConfig {
   int trials_at_once = 2;                // trials per round (bisection for 1); the same on any thread count
 };
 
+// A data file the input reads (a record, an STL surface, a particle file): the output and the
+// checkpoint must never overwrite or remove it.
+struct DataFile {
+  std::string path;   // as opened (relative to the working directory, or absolute)
+  std::string where;  // "FILE:LINE:COL: key 'PATH'" of the key that names it, for messages
+};
+
 struct Config {
   std::string source;  // file the configuration came from, for messages
   std::string title;
@@ -352,6 +359,8 @@ struct Config {
   // Digests of the data files the input names (records, surfaces, particle files), folded into the
   // fingerprint: a restart with a changed record is a different run.
   std::vector<std::uint64_t> file_digests;
+  // Every data file the input reads, in the order read.
+  std::vector<DataFile> data_files;
   // Valid values that look like a slip of units ("FILE:LINE:COL: key '...': ..."); printed, not refused.
   std::vector<std::string> warnings;
 };

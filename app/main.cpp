@@ -15,6 +15,7 @@
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/model/stage_change.hpp"
+#include "tsuchi/model/start_warnings.hpp"
 #include "tsuchi/run/factor_of_safety.hpp"
 #include "tsuchi/run/recorder.hpp"
 #include "tsuchi/run/simulation.hpp"
@@ -94,6 +95,12 @@ void print_fos(const Config& c) {
              f.max_steps);
 }
 void print_length(const Config& c, double dt, const std::string& output_dir);
+
+// The model's own warnings (model/start_warnings.hpp), after the input's.
+template <int D>
+void warn_at_start(const Config& c, const Model<D>& m) {
+  for (const auto& w : start_warnings<D>(c, m)) say(stderr, "warning: {}\n", w);
+}
 
 template <int D>
 void print_summary(const Config& c, const Model<D>& m, const std::string& output_dir) {
@@ -218,6 +225,7 @@ int check(const Config& c) {
   const Model<D> m = build_model<D>(c);
   make_recorders<D>(c, m);  // an empty particle set is an input error
   check_stages<D>(m, c);    // what a later stage would meet at its start
+  warn_at_start<D>(c, m);
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
   if (!c.staged()) check_run_length(c, next_time_step(c.time, dt_crit, 0, c.source));
   print_summary<D>(c, m, c.output.directory);
@@ -238,6 +246,7 @@ int run(const Config& c, const Options& o) {
   Model<D> m = build_model<D>(c);
   make_recorders<D>(c, m);  // an empty particle set is an input error, found before the summary
   check_stages<D>(m, c);    // and what a later stage would meet at its start, not hours into the run
+  if (o.restart.empty()) warn_at_start<D>(c, m);
   if (!o.quiet) print_summary<D>(c, m, o.output.empty() ? c.output.directory : o.output);
   RunOptions ro;
   ro.resume_command = resume_command(o);
@@ -295,6 +304,7 @@ int fos(const Config& c, const Options& o) {
   Model<D> m = build_model<D>(c);
   make_recorders<D>(c, m);  // input errors before the summary, as for `run`
   check_stages<D>(m, c);
+  warn_at_start<D>(c, m);
   if (!o.quiet) print_summary<D>(c, m, fo.output_directory);
   const FosResult r = factor_of_safety<D>(c, std::move(m), fo);
   say("bracket: stands at F = {:.6g}, fails at F = {:.6g} ({} trials); trials, stable.vtu and mechanism.vtu in {}\n",

@@ -62,6 +62,9 @@ courant = 0.5
 
 [output]
 directory = "out"
+
+[boundary]
+y_min = "fixed"  # the block rests on the grid's bottom: a free face would not hold it (issue 41)
 )";
 
 // 1-based line of the first line of `text` that contains `needle`.
@@ -603,7 +606,7 @@ TEST(ProgramErrors, VersionHelpAndMaterialSummary) {
   r = run_program("--help");
   EXPECT_EQ(r.status, tsuchi::exit_code::ok) << r.output;
   expect_message(r.output, {"docs/input.md", "Exit codes: 0 done", "2 input", "4 output", "9 time step above the stable limit",
-                            "130 / 143 interrupted"});
+                            "130 / 143 / 129 interrupted by SIGINT / SIGTERM / SIGHUP"});
   TempDir tmp("tsuchi_input_errors");
   write_file(tmp.path / "good.toml", kValid);
   r = run_program("check " + quoted(tmp.path / "good.toml"));

@@ -4,6 +4,7 @@
 #include "tsuchi/core/tensor.hpp"
 #include "tsuchi/model/config.hpp"
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -23,6 +24,9 @@ struct StepSettings {
   TimeFunction gravity_function;   // gravity at time t is gravity * gravity_function(t)
   double node_mass_floor = 0.0;    // nodes lighter than this are skipped (kg)
   std::int64_t sort_interval = 0;  // particles re-stored in block order every this many steps (0: never)
+  // [axis][side]: the grid face holds nothing (no [boundary] condition); a GIMP domain that crosses
+  // it has left the grid (ExplicitSolver::free_face_crossed).
+  std::array<std::array<bool, 2>, D> free_face{};
 
   // GIMP updates the particle domains (eq 14); uGIMP keeps them, linear has none.
   bool domain_update() const { return kernel == ShapeKind::Gimp; }
@@ -40,6 +44,8 @@ struct StepSettings {
     damping = c.solver.damping;
     for (int d = 0; d < D; ++d) gravity[d] = c.gravity[d];
     sort_interval = c.solver.sort_interval;
+    for (int d = 0; d < D; ++d)
+      for (int side = 0; side < 2; ++side) free_face[d][side] = c.boundary.faces[d][side] == FaceCondition::Free;
   }
 };
 

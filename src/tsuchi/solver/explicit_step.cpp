@@ -9,6 +9,7 @@
 #include "tsuchi/solver/jaumann.hpp"
 #include "tsuchi/solver/particle_domain.hpp"
 #include "tsuchi/solver/volumetric_strain.hpp"
+#include "tsuchi/model/free_faces.hpp"
 #include "tsuchi/model/material_state.hpp"
 
 #include <fmt/format.h>
@@ -886,7 +887,11 @@ inline void ExplicitSolver<D>::move_particle(std::size_t i, double dt, Vec<D> vL
   bool inside = true;
   for (int d = 0; d < D; ++d) inside = inside && x[d] >= m_.grid.origin[d] && x[d] <= hi[d];
   if (!inside) note_fault(escaped_, i);
+  // A GIMP domain across a free face is held there as by a wall (model/free_faces.hpp).
+  else if (m_.step.kernel != ShapeKind::Linear && free_face_reached(m_, i, free_face_slack(m_)) >= 0)
+    note_fault(escaped_, i);
 }
+
 
 // Several threads may find a fault in one step; the lowest particle index is reported, so the
 // message does not depend on the number of threads.
@@ -1063,10 +1068,23 @@ void ExplicitSolver<D>::report_faults() const {
                                "step (time.courant) or the loading speed",
                                when, describe_particle(static_cast<std::size_t>(inverted))),
                    Fault::VolumeCollapse);
-  if (escaped >= 0)
+  if (escaped >= 0) {
+    const auto i = static_cast<std::size_t>(escaped);
+    const int face = m_.step.kernel != ShapeKind::Linear ? free_face_reached(m_, i, free_face_slack(m_)) : -1;
+    if (face >= 0) {
+      const int d = face / 2;
+      const std::string name = face_name(face);
+      throw RunError(fmt::format("{}: {} left the grid across the free face {}: its GIMP domain (half-width "
+                                 "{:.4g} m) reaches past the last row of nodes, and a free face holds nothing; "
+                                 "give the face a condition ([boundary] {} = \"fixed\" or \"roller\") if the "
+                                 "body rests on it, or enlarge grid.extent",
+                                 when, describe_particle(i), name, m_.particles.l_p[i][d], name),
+                     Fault::LeftGrid);
+    }
     throw RunError(fmt::format("{}: {} left the grid; enlarge grid.extent or fix the boundary it crossed", when,
-                               describe_particle(static_cast<std::size_t>(escaped))),
+                               describe_particle(i)),
                    Fault::LeftGrid);
+  }
 }
 
 template class ExplicitSolver<2>;

@@ -38,21 +38,36 @@ class VtuBuilder {
 
 // Field f of every particle as the frame stores it: vectors with 3 components and symmetric
 // tensors with 6 in ParaView's order XX, YY, ZZ, XY, YZ, XZ (ours too), zero-padded in 2D.
+// Point k of a frame is particle order[k]: the particles by increasing id, whatever their storage
+// order (the step re-stores them in block order, solver.sort_interval). ParaView matches points
+// across frames by index (picking, spreadsheet rows, Temporal Statistics, Pathlines without a
+// global-id array): in storage order it silently mixed particles from frame to frame (issue 41).
+template <int D>
+std::vector<std::size_t> id_order(const Particles<D>& p) {
+  std::vector<std::size_t> order(p.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  if (!std::is_sorted(p.id_p.begin(), p.id_p.end()))
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return p.id_p[a] < p.id_p[b]; });
+  return order;
+}
+
 template <class T, int D>
-std::vector<T> field_array(const ParticleField& f, const Particles<D>& p, int components) {
+std::vector<T> field_array(const ParticleField& f, const Particles<D>& p, const std::vector<std::size_t>& order,
+                           int components) {
   const std::size_t n = p.size();
   const int used = tsuchi::components(f, D);  // the frame pads vectors to 3 and tensors to 6
   std::vector<T> r(static_cast<std::size_t>(components) * n, T{});
-  for (std::size_t i = 0; i < n; ++i)
-    for (int c = 0; c < used; ++c) r[static_cast<std::size_t>(components) * i + c] = static_cast<T>(field_value(f, p, i, c));
+  for (std::size_t k = 0; k < n; ++k)
+    for (int c = 0; c < used; ++c)
+      r[static_cast<std::size_t>(components) * k + c] = static_cast<T>(field_value(f, p, order[k], c));
   return r;
 }
 
 template <int D>
-std::vector<double> vectors3(const std::vector<Vec<D>>& v) {
+std::vector<double> vectors3(const std::vector<Vec<D>>& v, const std::vector<std::size_t>& order) {
   std::vector<double> r(3 * v.size(), 0.0);
-  for (std::size_t i = 0; i < v.size(); ++i)
-    for (int d = 0; d < D; ++d) r[3 * i + d] = v[i][d];
+  for (std::size_t k = 0; k < v.size(); ++k)
+    for (int d = 0; d < D; ++d) r[3 * k + d] = v[order[k]][d];
   return r;
 }
 
@@ -81,6 +96,7 @@ template <int D>
 std::string vtu_document(const Model<D>& model, const std::vector<std::string>& fields) {
   const auto& p = model.particles;
   const std::size_t n = p.size();
+  const std::vector<std::size_t> order = id_order(p);
   VtuBuilder b;
   std::string xml = fmt::format(
       "<?xml version=\"1.0\"?>\n"
@@ -98,18 +114,20 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
     if (!f || !f->frame) continue;  // the input reader accepts frame fields only
     const int components = f->kind == FieldKind::Vector ? 3 : f->kind == FieldKind::Tensor ? 6 : 1;
     if (f->quantity == Quantity::Id) {  // as stored: no round trip through a double
-      b.array(xml, "Int64", name, 1, p.id_p);
+      std::vector<std::int64_t> ids(n);
+      for (std::size_t k = 0; k < n; ++k) ids[k] = p.id_p[order[k]];
+      b.array(xml, "Int64", name, 1, ids);
       continue;
     }
     switch (f->type) {
-      case FieldType::Float64: b.array(xml, "Float64", name, components, field_array<double>(*f, p, components)); break;
-      case FieldType::Int64: b.array(xml, "Int64", name, components, field_array<std::int64_t>(*f, p, components)); break;
-      case FieldType::Int32: b.array(xml, "Int32", name, components, field_array<std::int32_t>(*f, p, components)); break;
-      case FieldType::UInt8: b.array(xml, "UInt8", name, components, field_array<std::uint8_t>(*f, p, components)); break;
+      case FieldType::Float64: b.array(xml, "Float64", name, components, field_array<double>(*f, p, order, components)); break;
+      case FieldType::Int64: b.array(xml, "Int64", name, components, field_array<std::int64_t>(*f, p, order, components)); break;
+      case FieldType::Int32: b.array(xml, "Int32", name, components, field_array<std::int32_t>(*f, p, order, components)); break;
+      case FieldType::UInt8: b.array(xml, "UInt8", name, components, field_array<std::uint8_t>(*f, p, order, components)); break;
     }
   }
   xml += "      </PointData>\n      <Points>\n";
-  b.array(xml, "Float64", "", 3, vectors3<D>(p.x_p));
+  b.array(xml, "Float64", "", 3, vectors3<D>(p.x_p, order));
   xml += "      </Points>\n      <Cells>\n";
   std::vector<std::int64_t> connectivity(n), offsets(n);
   for (std::size_t i = 0; i < n; ++i) {

@@ -5,8 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j"$(nproc)"
+scripts/build.sh
 case_dir=results/triaxial/test1_fixed
 ./build/app/tsuchi run examples/triaxial/test1_fixed.toml --output "$case_dir"
 /usr/bin/python3 examples/triaxial/plot.py results/triaxial test1_fixed

@@ -3,6 +3,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DTSUCHI_WERROR=ON
-cmake --build build -j"$(nproc)"
+scripts/build.sh
 ctest --test-dir build --output-on-failure -j"$(nproc)"

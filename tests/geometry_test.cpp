@@ -5,7 +5,9 @@
 #include "tsuchi/geometry/boolean.hpp"
 #include "tsuchi/geometry/intervals.hpp"
 #include "tsuchi/geometry/triangle_mesh.hpp"
+#include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/io/shape_reader.hpp"
+#include "tsuchi/model/model.hpp"
 #include "tsuchi/io/toml_section.hpp"
 
 #include "test_support.hpp"
@@ -598,3 +600,56 @@ TEST(Geometry, UnboundedBodyAndWrongDimensionAreRefused) {
 }
 
 }  // namespace
+
+// A binary STL stores float32: a cube meant from 0 to 0.2 m reads 0.20000000298 m, and one in mm
+// scaled to m likewise. On a grid of extent 0.2 m both were refused as reaching outside it (issue
+// 41); the bounds check allows the file's rounding now, and still refuses a cube 1 mm too large,
+// saying what it allowed.
+TEST(Geometry, BinaryStlOnTheGridBoundaryIsAccepted) {
+  TempDir tmp("tsuchi_geometry");
+  write_binary_stl(tmp.path / "m.stl", cube(0.0, 0.2));
+  write_binary_stl(tmp.path / "mm.stl", cube(0.0, 200.0));
+  write_binary_stl(tmp.path / "big.stl", cube(0.0, 0.201));
+  ASSERT_GT(static_cast<double>(static_cast<float>(0.2)), 0.2);  // the file's coordinate does lie outside
+  const std::string input = R"toml(
+[model]
+dimension = 3
+
+[grid]
+cell_size = 0.05
+extent = [0.2, 0.2, 0.2]
+
+[[materials]]
+name = "soil"
+model = "linear_elastic"
+density = 2000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+
+[[bodies]]
+name = "cube"
+material = "soil"
+shape = "stl"
+file = "FILE"
+scale = SCALE
+
+[time]
+end = 0.01
+)toml";
+  const auto config = [&](const std::string& file, const std::string& scale) {
+    const fs::path p = tmp.path / "cube.toml";
+    tsuchi::test::write_file(p, tsuchi::test::replace(tsuchi::test::replace(input, "FILE", file), "SCALE", scale));
+    return tsuchi::read_config_file(p.string());
+  };
+  for (const auto& [file, scale] : {std::pair<std::string, std::string>{"m.stl", "1.0"}, {"mm.stl", "0.001"}}) {
+    const tsuchi::Config c = config(file, scale);
+    const tsuchi::Model<3> m = tsuchi::build_model<3>(c);
+    EXPECT_EQ(m.particles.size(), 4u * 4u * 4u * 8u) << file;  // every cell filled, 2 x 2 x 2 per cell
+  }
+  try {
+    config("big.stl", "1.0");
+    ADD_FAILURE() << "a cube 1 mm beyond the grid was accepted";
+  } catch (const tsuchi::InputError& e) {
+    expect_message(e.what(), {"reaches outside the grid along x", "single precision"});
+  }
+}

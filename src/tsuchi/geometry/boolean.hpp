@@ -43,6 +43,13 @@ class Boolean final : public Shape {
     return c;
   }
 
+  double precision() const override {
+    double p = base_->precision();
+    for (const auto* parts : {&add_, &intersect_, &subtract_})
+      for (const auto& s : *parts) p = std::max(p, s->precision());
+    return p;
+  }
+
   // The union's box, cut down by each intersected shape's box; a subtraction does not shrink it.
   Bounds bounds() const override {
     Bounds b = base_->bounds();

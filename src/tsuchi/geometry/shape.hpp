@@ -41,6 +41,10 @@ class Shape {
   virtual Bounds bounds() const = 0;
   // The area (2D) or volume (3D) where a closed form is known; NaN otherwise.
   virtual double measure() const { return std::numeric_limits<double>::quiet_NaN(); }
+  // How far the shape's coordinates may lie from the ones meant, m: the rounding of a file that
+  // stores them in single precision (a binary STL file); 0 for shapes given in the input. Bounds
+  // checks against the grid allow this much.
+  virtual double precision() const { return 0.0; }
 };
 
 using ShapePtr = std::shared_ptr<const Shape>;

@@ -102,7 +102,7 @@ std::optional<std::string> TriangleMesh::problem(const std::vector<Triangle>& tr
   return std::nullopt;
 }
 
-TriangleMesh::TriangleMesh(const std::vector<Triangle>& triangles) {
+TriangleMesh::TriangleMesh(const std::vector<Triangle>& triangles, double precision) : precision_(precision) {
   weld(triangles, vert_, tri_);
   min_ = max_ = vert_[0];
   for (const Point& p : vert_) min_ = min_.cwiseMin(p), max_ = max_.cwiseMax(p);

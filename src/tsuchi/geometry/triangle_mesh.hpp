@@ -43,7 +43,8 @@ class TriangleMesh final : public Shape {
                                             const std::function<std::string(std::size_t)>& name);
 
   // The triangles must have passed problem().
-  explicit TriangleMesh(const std::vector<Triangle>& triangles);
+  // `precision`: Shape::precision(), the rounding of the file's coordinates in m.
+  explicit TriangleMesh(const std::vector<Triangle>& triangles, double precision = 0.0);
 
   bool contains(const Point& x) const override;
   Intervals chord(const Point& x, int axis) const override;
@@ -52,6 +53,7 @@ class TriangleMesh final : public Shape {
   // a point to each triangle, (v0 - o) . ((v1 - o) x (v2 - o)) / 6 (its absolute value: either
   // orientation of the surface).
   double measure() const override;
+  double precision() const override { return precision_; }
 
   std::size_t triangle_count() const { return tri_.size(); }
 
@@ -68,6 +70,7 @@ class TriangleMesh final : public Shape {
   std::vector<Point> vert_;
   std::vector<std::array<std::uint32_t, 3>> tri_;
   Point min_, max_;
+  double precision_ = 0.0;
   std::array<Bins, 3> bins_;
 };
 

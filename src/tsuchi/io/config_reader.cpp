@@ -231,12 +231,18 @@ void read_body_shape(Section& s, Config& c, BodyConfig& b, const std::string& di
   const geometry::Bounds bb = b.shape->bounds();
   for (int d = 0; d < dim; ++d) {
     const double lo = c.grid.origin[d], hi = c.grid.origin[d] + c.grid.extent[d];
-    const double tol = 1e-9 * c.grid.extent[d];
+    // A file in single precision (binary STL) is allowed its rounding: a surface meant to end on
+    // the grid's face may read a few 1e-9 m beyond it.
+    const double precision = b.shape->precision();
+    const double tol = std::max(1e-9 * c.grid.extent[d], precision);
     if (bb.min[d] < lo - tol || bb.max[d] > hi + tol) {
       const char* key = b.shape_key == "shape" ? "shape" : bb.min[d] < lo - tol ? "min" : "max";
-      s.fail(key, fmt::format("body \"{}\" reaches outside the grid along {}: [{}, {}] is not inside [{}, {}]{}", b.name,
+      s.fail(key, fmt::format("body \"{}\" reaches outside the grid along {}: [{}, {}] is not inside [{}, {}]{}{}", b.name,
                               axis_name[d], bb.min[d], bb.max[d], lo, hi,
-                              b.shape_key == "shape" ? " (the bounds of its shape)" : ""));
+                              b.shape_key == "shape" ? " (the bounds of its shape)" : "",
+                              precision > 0.0 ? fmt::format(", even allowing {:.3g} m for the single precision of its "
+                                                            "file's coordinates", precision)
+                                              : std::string{}));
     }
   }
 }

@@ -10,6 +10,8 @@
 #include "tsuchi/geometry/triangle_mesh.hpp"
 #include "tsuchi/io/stl_reader.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <span>
 
@@ -130,13 +132,19 @@ geometry::ShapePtr read_stl_shape(Section& s, const Context& c) {
     const std::string at = s.located("file", "");
     c.files->push_back({path.string(), at.substr(0, at.size() - 2)});
   }
+  // A binary file stores float32: a coordinate meant as 0.2 reads 0.20000000298. Its rounding is
+  // at most half an ulp, 2^-24 of the largest magnitude (a margin of 2 on that).
+  double largest = 0.0;
+  for (const auto& t : surface.triangles)
+    for (const Point& p : t) largest = std::max(largest, p.cwiseAbs().maxCoeff());
+  const double precision = surface.binary ? scale * largest * std::ldexp(1.0, -23) : 0.0;
   for (auto& t : surface.triangles)
     for (Point& p : t) p = scale * p + offset;
   const auto name = [&surface](std::size_t k) { return surface.name(k); };
   if (auto why = geometry::TriangleMesh::problem(surface.triangles, name))
     s.fail("file", fmt::format("expected a closed, consistently oriented surface of triangles, got '{}' where {}",
                                printable(path.string(), 200), *why));
-  return std::make_shared<geometry::TriangleMesh>(surface.triangles);
+  return std::make_shared<geometry::TriangleMesh>(surface.triangles, precision);
 }
 
 // The kinds of shape, by their input name: a new shape is a new file in geometry/ and one line

@@ -266,6 +266,13 @@ void read_particle_source(Section& s, Config& c, BodyConfig& b, const std::strin
   b.particles = read_particle_file(r);
   c.file_digests.push_back(b.particles->digest);  // a restart checks the particles too
   c.data_files.push_back({r.path, fmt::format("{}: key '{}'", r.key_where, r.key)});
+  if (const ParticleTable& t = *b.particles; t.small_particles > 0)
+    c.warnings.push_back(fmt::format(
+        "{}: key '{}': {} particle{} of the file (the first at {}) {} an edge below 1/20 of a cell ({} m; the smallest "
+        "{:.3g} m): far more particles per cell than a model needs, or a file in another unit (sizes and coordinates "
+        "are read in m)",
+        r.key_where, r.key, t.small_particles, t.small_particles == 1 ? "" : "s", t.first_small,
+        t.small_particles == 1 ? "has" : "have", c.grid.cell_size, t.smallest_edge));
   b.shape_kind = "file";
   b.shape_key = "particles";
   b.shape_where = r.key_where;

@@ -96,6 +96,11 @@ struct ParticleTable {
   std::vector<std::string> columns;   // further columns: a particle field component each
   std::vector<std::vector<double>> values;  // values[column][row]
   std::uint64_t digest = 0;           // of the file's bytes, for Config::fingerprint
+  // Particles whose edge is below 1/20 of a cell (io/particle_file_reader.cpp): their count, the
+  // first one's "FILE:LINE" and the smallest edge, for a warning.
+  std::size_t small_particles = 0;
+  std::string first_small;
+  double smallest_edge = 0.0;
 };
 
 struct BodyConfig {

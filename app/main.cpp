@@ -99,7 +99,7 @@ void print_length(const Config& c, double dt, const std::string& output_dir);
 // The model's own warnings (model/start_warnings.hpp), after the input's.
 template <int D>
 void warn_at_start(const Config& c, const Model<D>& m) {
-  for (const auto& w : start_warnings<D>(c, m)) say(stderr, "warning: {}\n", w);
+  for (const auto& w : start_warnings<D>(c, m)) say(stderr, "warning: {}\n", tsuchi::app::shown(w));
 }
 
 template <int D>
@@ -107,7 +107,8 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
   const double dt_crit = critical_time_step<D>(m.particles, c.materials, m.grid.h);
   const double dt = next_time_step(c.time, dt_crit, 0, c.source);
   say("tsuchi     {}\n", version);
-  say("model      {}{}\n", c.source, c.title.empty() ? "" : fmt::format(" ({})", c.title));
+  // The title as the terminal may show it, and 200 characters at most (a 10 MB title was echoed whole).
+  say("model      {}{}\n", c.source, c.title.empty() ? "" : fmt::format(" ({})", io::printable(c.title, 200)));
   say("dimension  {}\n", D == 2 ? "2 (plane strain)" : "3");
   std::string cells;
   for (int d = 0; d < D; ++d) cells += fmt::format("{}{}", d ? " x " : "", c.grid.cells[d]);
@@ -332,7 +333,7 @@ void clamp_environment_threads() {
 int dispatch(bool run_it, const Options& o, bool fos_it = false) {
   if (o.threads > 0) omp_set_num_threads(o.threads);
   const Config c = read_config_file(o.file, o.overrides);
-  for (const auto& w : c.warnings) say(stderr, "warning: {}\n", w);
+  for (const auto& w : c.warnings) say(stderr, "warning: {}\n", tsuchi::app::shown(w));
   // A busy output directory stops a run before it builds its model (which may take long).
   if (run_it || fos_it) DirectoryLock::refuse_if_held(o.output.empty() ? c.output.directory : o.output);
   if (fos_it) return c.dimension == 2 ? fos<2>(c, o) : fos<3>(c, o);
@@ -411,19 +412,19 @@ int main(int argc, char** argv) {
     if (run_cmd->parsed()) install_interrupt_handlers();
     return dispatch(run_cmd->parsed(), o, fos_cmd->parsed());
   } catch (const InputError& e) {
-    say(stderr, "\nerror in input: {}\n", e.what());
+    say(stderr, "\nerror in input: {}\n", tsuchi::app::shown(e.what()));
     return exit_code::input;
   } catch (const RunError& e) {
-    say(stderr, "\nrun stopped: {}\n", e.what());
+    say(stderr, "\nrun stopped: {}\n", tsuchi::app::shown(e.what()));
     return exit_code::of(e.fault);
   } catch (const Interrupted& e) {
-    say(stderr, "\ninterrupted: {}\n", e.what());
+    say(stderr, "\ninterrupted: {}\n", tsuchi::app::shown(e.what()));
     return 128 + e.signal;
   } catch (const OutputError& e) {
-    say(stderr, "\noutput failed: {}\n", e.what());
+    say(stderr, "\noutput failed: {}\n", tsuchi::app::shown(e.what()));
     return exit_code::output;
   } catch (const std::exception& e) {
-    say(stderr, "\ninternal error: {}\n", e.what());
+    say(stderr, "\ninternal error: {}\n", tsuchi::app::shown(e.what()));
     return exit_code::internal;
   }
 }

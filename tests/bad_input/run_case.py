@@ -12,7 +12,7 @@ carry a comment (an empty or binary file), in CASE.expect beside it; both are re
     # args: --set time.end=-1     extra arguments after the file (split as a shell would)
 
 The program runs in a fresh empty directory as `tsuchi run CASE -q -o DIR/out`. Besides the exit
-code and the texts, the output of an input error (exit 2) must name the case file, and the
+code and the texts, the output must hold no raw control character (only line breaks and tabs), the output of an input error (exit 2) must name the case file, and the
 directory must still be empty afterwards: a refused input writes nothing, not even the output
 directory. On failure the whole program output is printed.
 """
@@ -81,6 +81,10 @@ def main():
         for text in name + exp["texts"]:
             if text not in output:
                 problems.append(f"the output does not contain {text!r}")
+        # No message passes a file's control characters to the terminal (issue 41): ESC, BEL, NUL...
+        raw = sorted({f"0x{ord(ch):02x}" for ch in output if (ord(ch) < 0x20 and ch not in "\n\t") or ord(ch) == 0x7f})
+        if raw:
+            problems.append("the output holds raw control characters " + ", ".join(raw))
         left = sorted(os.path.relpath(os.path.join(d, n), tmp)
                       for d, dirs, files in os.walk(tmp) for n in dirs + files)
         if left:

@@ -1,6 +1,7 @@
 #include "tsuchi/io/csv_table.hpp"
 
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/toml_section.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -92,17 +93,18 @@ CsvTable read_csv_table(const std::string& path, const std::string& directory, c
         const auto r = std::from_chars(f.data(), f.data() + f.size(), dummy);
         if (r.ec == std::errc{} && r.ptr == f.data() + f.size())
           throw InputError(fmt::format("{}: {}:{}: expected a header row of column names first, got the number {}",
-                                       context, t.file, number, f));
+                                       context, t.file, number, printable(f)));
         if (f.empty()) throw InputError(fmt::format("{}: {}:{}: a column of the header has no name", context, t.file, number));
         for (const auto& seen : t.names)
-          if (seen == f) throw InputError(fmt::format("{}: {}:{}: column \"{}\" appears twice", context, t.file, number, f));
+          if (seen == f) throw InputError(fmt::format("{}: {}:{}: column \"{}\" appears twice", context, t.file, number, printable(f)));
         t.names.push_back(f);
       }
       continue;
     }
     if (fields.size() != t.names.size())
       throw InputError(fmt::format("{}: {}:{}: expected {} values (columns {}), got {}", context, t.file, number,
-                                   t.names.size(), fmt::join(t.names, ", "), fields.size()));
+                                   t.names.size(), printable(fmt::format("{}", fmt::join(t.names, ", ")), 200),
+                                   fields.size()));
     std::vector<double> row(fields.size());
     for (std::size_t k = 0; k < fields.size(); ++k) {
       const auto& f = fields[k];
@@ -111,7 +113,7 @@ CsvTable read_csv_table(const std::string& path, const std::string& directory, c
       const auto r = std::from_chars(b, f.data() + f.size(), row[k]);
       if (r.ec != std::errc{} || r.ptr != f.data() + f.size() || !std::isfinite(row[k]))
         throw InputError(fmt::format("{}: {}:{}: column \"{}\": expected a finite number, got \"{}\"", context, t.file,
-                                     number, t.names[k], f));
+                                     number, printable(t.names[k]), printable(f)));
     }
     t.rows.push_back(std::move(row));
     t.lines.push_back(number);

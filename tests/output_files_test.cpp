@@ -104,10 +104,14 @@ TEST(Output, RunWritesCompleteFramesSeriesAndCsv) {
   EXPECT_NE(last_doc.find("<PointData Scalars=\"max_shear_strain\">"), std::string::npos);
   EXPECT_NE(last_doc.find("<!-- written by tsuchi 0."), std::string::npos);
   EXPECT_NE(pvd.find("<!-- written by tsuchi 0."), std::string::npos);
-  for (std::size_t i = 0; i < m.particles.size(); ++i) {
+  // Frames list the particles by id (FramesListParticlesInIdOrder): point k is particle by_id[k].
+  std::vector<std::size_t> by_id(m.particles.size());
+  for (std::size_t i = 0; i < by_id.size(); ++i) by_id[static_cast<std::size_t>(m.particles.id_p[i])] = i;
+  for (std::size_t k = 0; k < m.particles.size(); ++k) {
+    const std::size_t i = by_id[k];
     const auto value = [&](const char* name) {
       double v = 0;
-      std::memcpy(&v, last.arrays.at(name).second.data() + i * sizeof(double), sizeof(double));
+      std::memcpy(&v, last.arrays.at(name).second.data() + k * sizeof(double), sizeof(double));
       return v;
     };
     const auto& sg = m.particles.sigma_p[i];
@@ -120,9 +124,10 @@ TEST(Output, RunWritesCompleteFramesSeriesAndCsv) {
     ASSERT_GT(value("radius"), 0.0);
   }
   const std::string& vel = last.arrays.at("velocity").second;
-  for (std::size_t i = 0; i < m.particles.size(); ++i) {
+  for (std::size_t k = 0; k < m.particles.size(); ++k) {
+    const std::size_t i = by_id[k];
     double vx = 0;
-    std::memcpy(&vx, vel.data() + 3 * i * sizeof(double), sizeof(double));
+    std::memcpy(&vx, vel.data() + 3 * k * sizeof(double), sizeof(double));
     ASSERT_EQ(vx, m.particles.v_p[i][0]) << "particle " << i;
   }
   // global.csv: a header and one row per step, all with the header's column count.

@@ -75,7 +75,7 @@ void print_contact(const Config& c, const Model<D>& m) {
     for (const auto& p : c.contacts) say("           {} | {}: {}\n", name(p.body_a), name(p.body_b), law(p));
   for (const auto& w : k.walls) {
     const double mu = w.friction;
-    say("wall       {}_{}: frictional wall, {}\n", "xyz"[w.face / 2], w.face % 2 ? "max" : "min",
+    say("wall       {}: frictional wall, {}\n", face_name(w.face),
                std::isinf(mu) ? std::string("rough (no slip)") : fmt::format("mu {}", mu));
   }
 }

@@ -15,17 +15,17 @@ namespace tsuchi {
 
 namespace fs = std::filesystem;
 
-bool is_frame_file_name(const std::string& name) {
-  const std::string head = "particles_", tail = ".vtu";
-  if (name.size() < head.size() + 6 + tail.size() || name.compare(0, head.size(), head) != 0 ||
+namespace {
+
+// HEAD, then at least `digits` decimal digits, then TAIL.
+bool is_numbered_name(const std::string& name, const std::string& head, std::size_t digits, const std::string& tail) {
+  if (name.size() < head.size() + digits + tail.size() || name.compare(0, head.size(), head) != 0 ||
       name.compare(name.size() - tail.size(), tail.size(), tail) != 0)
     return false;
   return std::all_of(name.begin() + static_cast<std::ptrdiff_t>(head.size()),
                      name.end() - static_cast<std::ptrdiff_t>(tail.size()),
                      [](unsigned char c) { return c >= '0' && c <= '9'; });
 }
-
-namespace {
 
 // Absolute, symbolic links of the existing part resolved, "." and ".." and a trailing "/" gone.
 fs::path normal(const fs::path& p) {
@@ -44,18 +44,12 @@ bool same_path(const fs::path& a, const fs::path& b) {
 
 }  // namespace
 
+bool is_frame_file_name(const std::string& name) { return is_numbered_name(name, "particles_", 6, ".vtu"); }
+
 bool is_output_file_name(const std::string& name) {
-  const auto numbered = [&](const std::string& head, const std::string& tail) {
-    if (name.size() <= head.size() + tail.size() || name.compare(0, head.size(), head) != 0 ||
-        name.compare(name.size() - tail.size(), tail.size(), tail) != 0)
-      return false;
-    return std::all_of(name.begin() + static_cast<std::ptrdiff_t>(head.size()),
-                       name.end() - static_cast<std::ptrdiff_t>(tail.size()),
-                       [](unsigned char c) { return c >= '0' && c <= '9'; });
-  };
   return name == "particles.pvd" || name == "global.csv" || name == "recorders.csv" || name == "stages.csv" ||
          name == "contact.pvd" || name == DirectoryLock::file_name || is_frame_file_name(name) ||
-         numbered("contact_", ".vtu") || numbered("particles_stage", ".pvd");
+         is_numbered_name(name, "contact_", 1, ".vtu") || is_numbered_name(name, "particles_stage", 1, ".pvd");
 }
 
 void check_output_paths(const Config& c, const std::string& directory, const std::string& checkpoint) {

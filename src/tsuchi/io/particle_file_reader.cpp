@@ -73,7 +73,7 @@ void check_particle(const ParticleFileRequest& r, ParticleTable& t, std::size_t 
                        "strictly inside: the grid's faces are its edge)",
                        axis_name[d], x, x == lo || x == hi ? "on the edge of" : "outside", lo, hi, axis_name[d]));
   }
-  if (!(V > 0.0) || !std::isnormal(edge) || edge < 1e-6 * h)
+  if (!std::isnormal(edge) || edge < 1e-6 * h)  // also a volume that underflowed to 0
     fail(r, t.where[row],
          fmt::format("the particle's edge V^(1/{}) = {:.6g} m is less than a millionth of the cell ({} m): its volume "
                      "and mass are no quantity the grid can resolve; is the file in another unit (sizes and "

@@ -22,6 +22,8 @@ enum class ShapeKind { Linear, UGimp, Gimp };
 // Friction: a rigid wall the material may slide along (Coulomb, BoundaryConfig::face_friction) and
 // leave, but not cross (model/contact.hpp).
 enum class FaceCondition { Free, Roller, Fixed, Friction };
+// A grid face numbered axis * 2 + side (side 1 the upper one) as the input names it: "y_min".
+inline std::string face_name(int face) { return std::string(1, "xyz"[face / 2]) + (face % 2 ? "_max" : "_min"); }
 // How velocities go between particles and grid: FLIP (blended with PIC by pic_fraction) or APIC
 // (Jiang et al. 2015), which carries an affine velocity field per particle.
 enum class VelocityTransfer { Flip, Apic };

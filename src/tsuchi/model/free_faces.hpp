@@ -12,12 +12,9 @@
 // its body's motion is prescribed along the axis.
 #include "tsuchi/model/model.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <string>
 
 namespace tsuchi {
 
@@ -50,6 +47,5 @@ double free_face_slack(const Model<D>& m) {
   return 1e-9 * m.grid.h;
 }
 
-inline std::string face_name(int face) { return fmt::format("{}_{}", "xyz"[face / 2], face % 2 ? "max" : "min"); }
 
 }  // namespace tsuchi

@@ -33,7 +33,7 @@ std::vector<std::size_t> support_nodes(const RecorderConfig& c, std::size_t inde
   std::string what;
   if (c.face >= 0) {
     const int d = c.face / 2, side = c.face % 2;
-    what = fmt::format("face {}_{}", "xyz"[d], side ? "max" : "min");
+    what = "face " + face_name(c.face);
     for (const std::int64_t k : held)
       if (g.ijk(k)[d] == (side ? g.n_nodes[d] - 1 : 0)) take(k);
   } else {

@@ -104,6 +104,7 @@ void ExplicitSolver<D>::step_with(double dt) {
   auto& g = m_.grid;
   // The loads of this step are taken at its start (the explicit update of eq 4 uses f at t_n).
   gravity_ = m_.step.gravity * m_.step.gravity_function(time_);
+  watch_free_faces();  // the step's settings may have changed at a stage
   // Blocks coloured for the kernel's reach; every stage below uses the start-of-step positions.
   constexpr auto reach = BlockSchedule<D>::template reach_of<Kernel>();
   schedule_.build(g, m_.particles.x_p, reach);
@@ -887,9 +888,27 @@ inline void ExplicitSolver<D>::move_particle(std::size_t i, double dt, Vec<D> vL
   bool inside = true;
   for (int d = 0; d < D; ++d) inside = inside && x[d] >= m_.grid.origin[d] && x[d] <= hi[d];
   if (!inside) note_fault(escaped_, i);
-  // A GIMP domain across a free face is held there as by a wall (model/free_faces.hpp).
-  else if (m_.step.kernel != ShapeKind::Linear && free_face_reached(m_, i, free_face_slack(m_)) >= 0)
-    note_fault(escaped_, i);
+  // A GIMP domain across a free face is held there as by a wall (model/free_faces.hpp). The
+  // step's bounds (watch_free_faces) let the particles far from any free face skip the full test.
+  else {
+    const Vec<D>& l = p.l_p[i];
+    bool beyond = false;
+    for (int d = 0; d < D; ++d) beyond = beyond || x[d] - l[d] < domain_lo_[d] || x[d] + l[d] > domain_hi_[d];
+    if (beyond && free_face_reached(m_, i, free_face_slack(m_)) >= 0) note_fault(escaped_, i);
+  }
+}
+
+// Where a particle's domain may reach in this step before free_face_reached must look at it: the
+// free faces less its slack; no bound at a held face, nor with the linear kernel (no domain).
+template <int D>
+void ExplicitSolver<D>::watch_free_faces() {
+  const double inf = std::numeric_limits<double>::infinity(), slack = free_face_slack(m_);
+  const Vec<D> hi = m_.grid.upper();
+  const bool gimp = m_.step.kernel != ShapeKind::Linear;
+  for (int d = 0; d < D; ++d) {
+    domain_lo_[d] = gimp && m_.step.free_face[d][0] ? m_.grid.origin[d] - slack : -inf;
+    domain_hi_[d] = gimp && m_.step.free_face[d][1] ? hi[d] + slack : inf;
+  }
 }
 
 

@@ -168,6 +168,7 @@ class ExplicitSolver {
   [[gnu::always_inline]] inline void hold_motion(std::size_t i, Vec<D>& v);
   [[gnu::always_inline]] inline void hold_motion(std::size_t i, Vec<D>& v, Mat<D>& C);
   [[gnu::always_inline]] inline void move_particle(std::size_t i, double dt, Vec<D> vL);
+  void watch_free_faces();
   void update_free_rigid_bodies(double dt);
   void restore_free_rigid_bodies();
   template <class Kernel> void mark_driven_nodes() const;
@@ -178,6 +179,7 @@ class ExplicitSolver {
   double time_ = 0.0;
   std::int64_t steps_ = 0;
   std::int64_t escaped_ = -1;   // first particle found outside the grid in this step
+  Vec<D> domain_lo_ = Vec<D>::Zero(), domain_hi_ = Vec<D>::Zero();  // watch_free_faces()
   std::int64_t inverted_ = -1;  // first particle whose volume went to zero or below
   std::int64_t nonfinite_ = -1; // first particle with a NaN or Inf stress, velocity or volume
   std::int64_t released_ = 0;  // released_particles()

@@ -5,6 +5,7 @@
 // constant gravity; a body force; a platen whose prescribed velocity is ramped moving by exactly
 // v0 int f dt, and its reaction at rest; examples/surcharge against the strip-load solution; the
 // loads through reordering and a restart.
+#include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/time_function.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
@@ -61,6 +62,35 @@ TEST(TimeFunction, FormulaIntegralOfSineMatchesClosedForm) {
   EXPECT_NEAR(f(0.5), std::sin(0.5), 1e-15);
   for (const auto& [a, b] : std::vector<std::pair<double, double>>{{0.0, 2.0}, {0.3, 9.7}, {-1.0, 0.25}, {5.0, 5.001}})
     EXPECT_NEAR(f.integral(a, b), std::cos(a) - std::cos(b), 1e-10) << "[" << a << ", " << b << "]";
+}
+
+// Issue 41, defect 5: a formula that is not finite stops the run naming the function and the time
+// (before, the infinite gravity of log(t) reached the particles and the fault blamed the time step).
+TEST(TimeFunction, NonFiniteFormulaValueNamesTheFunctionAndTheTime) {
+  const TimeFunction f = TimeFunction::formula(std::make_shared<const Expression>("1 / (t - 0.5)", Expression::Of::Time),
+                                               "kick", "1 / (t - 0.5)");
+  EXPECT_NEAR(f(0.25), -4.0, 1e-14);
+  auto message = [](auto&& call) -> std::string {
+    try {
+      call();
+    } catch (const RunError& e) {
+      EXPECT_EQ(e.fault, Fault::NonFinite);
+      return e.what();
+    }
+    return "no error";
+  };
+  const std::string at = message([&] { f(0.5); });
+  EXPECT_NE(at.find("function \"kick\" (formula \"1 / (t - 0.5)\") is inf at t = 0.5 s"), std::string::npos) << at;
+  // On a stage's clock: the run's time and the function's own.
+  const std::string staged = message([&] { f.starting_at(2.0)(2.5); });
+  EXPECT_NE(staged.find("t = 2.5 s (its clock started at 2 s, so 0.5 s on it)"), std::string::npos) << staged;
+  // An integral whose Gauss points meet the pole: log|t| is integrable, 1/t^2 is not.
+  const TimeFunction g = TimeFunction::formula(std::make_shared<const Expression>("log(t)", Expression::Of::Time), "g", "log(t)");
+  EXPECT_NEAR(g.integral(0.0, 1.0), -1.0, 2e-3);  // no Gauss point at t = 0
+  const TimeFunction h = TimeFunction::formula(std::make_shared<const Expression>("1 / (t - 0.5)^2 - 1e308 * 1e308", Expression::Of::Time), "h", "x");
+  const std::string whole = message([&] { (void)h.integral(0.0, 1.0); });
+  EXPECT_NE(whole.find("function \"h\""), std::string::npos) << whole;
+  EXPECT_NE(whole.find("is -inf at t = 0.000"), std::string::npos) << whole;  // the first Gauss point of [0, 1]
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -315,6 +345,33 @@ function = "quarter"
   std::printf("body force: sum of nodal forces (%.15g, %.15g) N/m\n", sum[0], sum[1]);
   EXPECT_NEAR(sum[0], 0.25 * 1000.0 * 0.2, 1e-12 * 1000.0);
   EXPECT_NEAR(sum[1], 0.25 * -19620.0 * 0.2, 1e-12 * 19620.0);
+}
+
+// Issue 41, defect 5, in a run: gravity scaled by log(t) and a traction by sqrt(0.01 - t) stop
+// with the function's name and time
+// (exit 6), not a particle's "non-finite stress" blamed on the time step.
+TEST(Loads, NonFiniteFunctionStopsTheRunNamingItself) {
+  const std::string column = replace(block(""), "dimension = 2", "dimension = 2\ngravity = [0.0, -9.81]");
+  const auto stop = [](const std::string& text) -> std::string {
+    const Config c = read_config_string(text, "c.toml", {});
+    Model<2> m = build_model<2>(c);
+    try {
+      run_simulation<2>(m, c, no_output());
+    } catch (const RunError& e) {
+      EXPECT_EQ(e.fault, Fault::NonFinite);
+      return e.what();
+    }
+    return "no error";
+  };
+  expect_message(stop(replace(column, "gravity = [0.0, -9.81]",
+                              "gravity = [0.0, -9.81]\ngravity_function = \"g\"\n\n[[functions]]\nname = \"g\"\n"
+                              "formula = \"log(t)\"\n")),
+                 {"function \"g\" (formula \"log(t)\") is -inf at t = 0 s"});
+  // NaN from t = 0.01 s on: the first step past it stops.
+  const std::string pole = "\n[[functions]]\nname = \"pole\"\nformula = \"sqrt(0.01 - t)\"\n";
+  expect_message(stop(block(pole + "\n[[loads]]\nkind = \"traction\"\nbody = \"block\"\npressure = 1.0e4\nfunction = \"pole\"\n"
+                            "min = [0.0, 0.98]\nmax = [0.2, 1.0]\n")),
+                 {"function \"pole\" (formula \"sqrt(0.01 - t)\") is NaN at t = 0.01"});
 }
 
 // The block under its own weight (the column of examples/column_self_weight) with gravity ramped

@@ -1,5 +1,9 @@
 #include "tsuchi/core/time_function.hpp"
 
+#include "tsuchi/core/errors.hpp"
+
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -14,18 +18,33 @@ TimeFunction TimeFunction::table(std::vector<double> times, std::vector<double> 
   return f;
 }
 
-TimeFunction TimeFunction::formula(std::shared_ptr<const Expression> of_time) {
+TimeFunction TimeFunction::formula(std::shared_ptr<const Expression> of_time, std::string name, std::string text) {
   TimeFunction f;
   f.kind_ = Kind::Formula;
   f.f_ = std::move(of_time);
+  f.name_ = std::move(name);
+  f.text_ = std::move(text);
   return f;
+}
+
+double TimeFunction::finite(double value, double t) const {
+  if (std::isfinite(value)) return value;
+  // t is on the function's own clock; a stage that set it started it at start_ on the run's clock.
+  const std::string when = start_ != 0.0 ? fmt::format("t = {:.6g} s (its clock started at {:.6g} s, so {:.6g} s on it)",
+                                                       t + start_, start_, t)
+                                         : fmt::format("t = {:.6g} s", t);
+  throw RunError(fmt::format("function \"{}\" (formula \"{}\") is {} at {}: the load, gravity or motion it scales "
+                             "would be too; give a formula finite at every time of the run (e.g. log(t + 1e-3) "
+                             "rather than log(t))",
+                             name_, text_, std::isnan(value) ? "NaN" : value > 0.0 ? "inf" : "-inf", when),
+                 Fault::NonFinite);
 }
 
 double TimeFunction::operator()(double t) const {
   t -= start_;
   switch (kind_) {
     case Kind::One: return 1.0;
-    case Kind::Formula: return f_->at_time(t);
+    case Kind::Formula: return finite(f_->at_time(t), t);
     case Kind::Table: break;
   }
   if (t <= t_.front()) return v_.front();
@@ -57,7 +76,13 @@ double TimeFunction::integral(double a, double b) const {
         const double mid = a + (k + 0.5) * h;
         for (std::size_t q = 0; q < x.size(); ++q) sum += w[q] * f_->at_time(mid + 0.5 * h * x[q]);
       }
-      return 0.5 * h * sum;
+      if (!std::isfinite(sum))  // name the first time where it fails
+        for (int k = 0; k < pieces; ++k)
+          for (const std::size_t q : {3u, 1u, 0u, 2u, 4u}) {  // the points in time order
+            const double tq = a + (k + 0.5) * h + 0.5 * h * x[q];
+            finite(f_->at_time(tq), tq);
+          }
+      return 0.5 * h * finite(sum, a);
     }
     case Kind::Table: break;
   }

@@ -7,6 +7,7 @@
 #include "tsuchi/core/expression.hpp"
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace tsuchi {
@@ -16,7 +17,10 @@ class TimeFunction {
   TimeFunction() = default;  // f(t) = 1
   // Times strictly increasing (the input reader checks it), at least one point.
   static TimeFunction table(std::vector<double> times, std::vector<double> values);
-  static TimeFunction formula(std::shared_ptr<const Expression> of_time);
+  // `name` and `text` (the [[functions]] entry and its formula) are for the message when the
+  // formula gives a non-finite value: then operator() and integral() throw RunError (Fault::NonFinite)
+  // naming the function and the time, rather than letting an infinite load reach a particle.
+  static TimeFunction formula(std::shared_ptr<const Expression> of_time, std::string name = {}, std::string text = {});
 
   // The function started at t0 instead of 0: g(t) = f(t - t0), the clock of a load that a stage
   // sets (docs/stages.md); before t0 its integral is zero (the load did not act yet).
@@ -43,7 +47,9 @@ class TimeFunction {
   Kind kind_ = Kind::One;
   std::vector<double> t_, v_;
   std::shared_ptr<const Expression> f_;
+  std::string name_, text_;
   double start_ = 0.0;
+  double finite(double value, double t) const;  // value, or RunError naming the function and t
 };
 
 }  // namespace tsuchi

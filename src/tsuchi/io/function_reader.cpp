@@ -93,7 +93,7 @@ void read_functions(Section& top, Config& c) {
     } else if (s.has("formula")) {
       const std::string text = s.string("formula", "an expression of t in quotes, e.g. \"min(t / 2, 1)\"");
       try {
-        f.f = TimeFunction::formula(std::make_shared<const Expression>(text, Expression::Of::Time));
+        f.f = TimeFunction::formula(std::make_shared<const Expression>(text, Expression::Of::Time), f.name, printable(text));
       } catch (const std::invalid_argument& e) {
         s.fail("formula", fmt::format("\"{}\" is not a valid formula of t: {}", printable(text), e.what()));
       }

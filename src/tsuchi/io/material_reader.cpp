@@ -17,6 +17,16 @@ void check_modulus(const Section& s, std::vector<std::string>* warnings, std::st
          fmt::format("{:g} Pa is below 1 kPa; moduli are in Pa (for {:g} MPa write {:g})", v, v, v * 1e6));
 }
 
+// Soils, rocks and concrete weigh 1,000 to 3,000 kg/m^3 and nothing solid over 22,600 (osmium):
+// below 100 a density was most likely given in t/m^3 (or g/cm^3), above 100,000 in g/m^3 or so.
+void check_density(const Section& s, std::vector<std::string>* warnings, double v) {
+  if (v < 100.0)
+    warn(s, warnings, "density",
+         fmt::format("{:g} kg/m^3 is below any soil's; densities are in kg/m^3 (for {:g} t/m^3 write {:g})", v, v, v * 1e3));
+  else if (v > 1e5)
+    warn(s, warnings, "density", fmt::format("{:g} kg/m^3 is above any solid's (osmium: 22,600); densities are in kg/m^3", v));
+}
+
 LinearElastic read_elastic(Section& s, std::vector<std::string>* warnings) {
   const double nu = s.number("poisson_ratio", "a Poisson's ratio in (-1, 0.5)",
                              [](double v) { return v > -1.0 && v < 0.5; });
@@ -67,6 +77,7 @@ Material read_material(Section& s, const std::vector<Material>& defined, std::ve
   const int model = s.choice("model", names, -1);
   if (model < 0) s.need("model", fmt::format("a constitutive model name ({})", quoted_list(names)));
   m.density = s.number("density", "a positive density in kg/m^3", positive);
+  check_density(s, warnings, m.density);
   const LinearElastic elastic =
       reads_own_elasticity(static_cast<std::size_t>(model)) ? LinearElastic{} : read_elastic(s, warnings);
   m.model = read_model(static_cast<std::size_t>(model), s, elastic, warnings);

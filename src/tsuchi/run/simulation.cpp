@@ -27,7 +27,18 @@ double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step,
     throw RunError("got a non-finite velocity, volume or mass; the run is unstable there: reduce time.courant or "
                    "time.dt, add solver.damping, or check the material parameters",
                    Fault::NonFinite);
-  if (time.courant) return *time.courant * dt_crit;
+  if (time.courant) {
+    // A model whose fastest wave takes ages to cross a cell (no stiffness for its density: E = 1e-300,
+    // density 1e308, a Cam-Clay soil at zero pressure) gives a step that is no bound at all: the
+    // whole run would be one step, and the fault that follows would blame the step.
+    if (step == 0 && !(dt_crit <= max_stable_step))
+      throw InputError(fmt::format(
+          "{}: the stable time step is {:.3g} s (cell size / P-wave speed), above {:.0e} s: the materials carry "
+          "almost no signal across a cell, so time.courant bounds nothing and the run would be one step; check the "
+          "moduli (Pa), the densities (kg/m^3) and, for a pressure-dependent soil, its initial stress",
+          source, dt_crit, max_stable_step));
+    return *time.courant * dt_crit;
+  }
   if (*time.dt > dt_crit) {
     // --set cannot remove time.dt from the file, so the advice that works from the command line
     // is a smaller time.dt; time.courant needs an edit of the file.

@@ -68,7 +68,8 @@ std::string shell_word(const std::string& word);
 std::string checkpoint_path(const Config& config, const std::string& output_directory);
 
 // The step size for the next step from the time settings and the current critical step;
-// throws InputError (at step 0) or RunError (later) if a fixed dt exceeds the stable limit.
+// throws InputError (at step 0) or RunError (later) if a fixed dt exceeds the stable limit, and
+// InputError at step 0 if time.courant is to scale a stable step above max_stable_step.
 double next_time_step(const TimeConfig& time, double dt_crit, std::int64_t step, const std::string& source);
 
 // How long a run is: steps and frames from `from_time` to time.end with a first step `dt`,
@@ -94,6 +95,9 @@ inline constexpr std::int64_t equilibrium_first_step = 20;
 
 // Without time.max_steps a run may take at most this many steps; and no run more frames than this.
 inline constexpr double default_step_limit = 1e8;
+// A stable step above this (11.6 days; soil's is micro- to milliseconds) means a material without
+// stiffness for its density, not a slow wave.
+inline constexpr double max_stable_step = 1e6;
 inline constexpr double frame_limit = 1e5;
 
 // Refuses (InputError) a run that cannot finish: more steps than default_step_limit without an

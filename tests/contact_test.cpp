@@ -4,8 +4,10 @@
 // (examples/disk_collision) with momentum kept, no interpenetration and a rebound, and "bonded"
 // exactly as no contact; the same bits on one and two threads; the forces a rigid base body and a
 // frictional floor carry under a block at rest.
+#include "tsuchi/core/errors.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
+#include "tsuchi/model/start_warnings.hpp"
 #include "tsuchi/run/simulation.hpp"
 #include "tsuchi/solver/global_quantities.hpp"
 
@@ -229,6 +231,32 @@ TEST(SlidingBlock, FreeRigidBlockSlidesAtCoulombsAcceleration) {
     std::printf("rigid block, mu %.1f: a = %.5f m/s2, Coulomb %.5f (%+.4f %%)\n", mu, a, ref, 100.0 * (a / ref - 1.0));
     EXPECT_NEAR(a, ref, 0.01 * ref) << mu;
   }
+}
+
+// A free rigid body much lighter than the soil it touches is warned of before the run (issue 41,
+// defect 6): the block of rigid_block.toml at 8e-8 kg/m, 1e-9 of its own mass, rang and left the
+// grid at step 30 with no word about its mass. The soil within a cell of it is the base's layer
+// 0.025 m deep under it and a cell to each side: 0.45 x 0.025 m at 2000 kg/m^3 = 22.5 kg/m. At
+// 80 kg/m (its own) there is no warning, and none for a block a cell above the base.
+TEST(SlidingBlock, LightFreeRigidBlockIsWarnedOf) {
+  const std::string file = kExamples + "sliding_block/rigid_block.toml";
+  Config c = read_config_file(file, {"bodies.1.rigid_mass=8e-8"});
+  std::vector<std::string> w = start_warnings<2>(c, build_model<2>(c));
+  ASSERT_EQ(w.size(), 1u);
+  tsuchi::test::expect_message(w[0], {"free rigid body \"block\" (rigid_mass = 8e-08 kg/m)", "22.5 kg/m",
+                                      "body \"base\"", "its particles weigh 80 kg/m"});
+  Model<2> m = build_model<2>(c);
+  bool left = false;
+  try {
+    run_simulation<2>(m, c, no_output());
+  } catch (const RunError& e) {
+    left = exit_code::of(e.fault) == exit_code::left_grid;
+  }
+  EXPECT_TRUE(left) << "the light block was expected to leave the grid";
+  c = read_config_file(file);
+  EXPECT_TRUE(start_warnings<2>(c, build_model<2>(c)).empty());
+  c = read_config_file(file, {"bodies.1.rigid_mass=8e-8", "bodies.1.min=[0.1, 0.15]", "bodies.1.max=[0.5, 0.25]"});
+  EXPECT_TRUE(start_warnings<2>(c, build_model<2>(c)).empty());
 }
 
 // A rigid body strains only as its motion is prescribed: the smooth rigid footing

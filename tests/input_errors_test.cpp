@@ -597,6 +597,30 @@ TEST(InputValid, UnitSlipsAreWarnedAbout) {
   expect_message(r.output, {"warning: " + (tmp.path / "slip.toml").string() + ":", "0.35 degrees", "input is valid"});
 }
 
+// A [[functions]] entry that no key names (a load or gravity that forgot its `function`) was
+// taken silently; now it is warned of, at its name's line (issue 41, defect 6). A function named
+// only by a later stage is used.
+TEST(InputValid, UnusedFunctionIsWarnedAbout) {
+  const std::string fn = "\n[[functions]]\nname = \"ramp\"\ntable = [[0.0, 0.0], [1.0, 1.0]]\n";
+  std::string text = kValid + fn;
+  tsuchi::Config c = read_config_string(text, "case.toml");
+  ASSERT_EQ(c.warnings.size(), 1u);
+  expect_message(c.warnings[0], {at_line(line_of(text, "name = \"ramp\"")), "key 'functions.0.name'",
+                                 "function \"ramp\" is defined but nothing names it"});
+  text = replace(text, "gravity = [0.0, -9.81]", "gravity = [0.0, -9.81]\ngravity_function = \"ramp\"");
+  EXPECT_TRUE(read_config_string(text, "case.toml").warnings.empty());
+  const std::string stages =
+      "\n[[stages]]\nname = \"one\"\nduration = 0.01\n"
+      "\n[[stages]]\nname = \"two\"\nduration = 0.01\n[stages.model]\ngravity_function = \"ramp\"\n";
+  text = replace(kValid, "[time]\nend = 0.01\n", "[time]\n") + fn + stages;
+  EXPECT_TRUE(read_config_string(text, "case.toml").warnings.empty());
+  text = replace(kValid, "[time]\nend = 0.01\n", "[time]\n") + fn +
+         replace(stages, "[stages.model]\ngravity_function = \"ramp\"\n", "");
+  c = read_config_string(text, "case.toml");
+  ASSERT_EQ(c.warnings.size(), 1u);
+  expect_message(c.warnings[0], {"function \"ramp\" is defined but nothing names it"});
+}
+
 // --version, --help pointing to docs/input.md with the exit codes, the version and the materials
 // in the summary (issue 13).
 TEST(ProgramErrors, VersionHelpAndMaterialSummary) {

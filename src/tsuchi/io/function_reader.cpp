@@ -101,6 +101,9 @@ void read_functions(Section& top, Config& c) {
       f.f = read_record(s, c);
     }
     s.finish();
+    f.unused_warning = s.located("name", fmt::format("function \"{}\" is defined but nothing names it (as "
+                                                     "gravity_function, prescribed_velocity_function or function)",
+                                                     printable(f.name)));
     c.functions.push_back(std::move(f));
   }
 }
@@ -109,7 +112,10 @@ int read_function_ref(Section& s, std::string_view key, const Config& c) {
   if (!s.has(key)) return -1;
   const std::string name = s.string(key, "the name of a function of [[functions]]");
   for (std::size_t k = 0; k < c.functions.size(); ++k)
-    if (c.functions[k].name == name) return static_cast<int>(k);
+    if (c.functions[k].name == name) {
+      c.functions[k].named = true;
+      return static_cast<int>(k);
+    }
   s.fail(key, fmt::format("expected the name of a function of [[functions]] ({}), got \"{}\"",
                           c.functions.empty() ? std::string("none defined") : quoted_list(c.functions, &FunctionConfig::name),
                           printable(name)));

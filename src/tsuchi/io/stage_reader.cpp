@@ -284,6 +284,10 @@ void check_stage_sequence(Config& c, const toml::table& root) {
                                   c.bodies[ub].name, removed[ub] ? "was removed by an earlier stage" : "is added by an earlier stage"));
       present[ub] = true;
     }
+    if (!st.remove.empty() && std::none_of(present.begin(), present.end(), [](bool p) { return p; }))
+      s.fail("remove", fmt::format("stage \"{}\" removes every body there is: it would run on an empty model; "
+                                   "expected at least one body left",
+                                   st.name));
   }
   if (std::none_of(c.body_starts_dormant.begin(), c.body_starts_dormant.end(), [](bool d) { return !d; }))
     Section(root, "", c.source)

@@ -42,6 +42,10 @@ constexpr bool node_averaged(AntiLocking a) { return a == AntiLocking::Node || a
 struct FunctionConfig {
   std::string name;
   TimeFunction f;
+  // Set by the reader when a key names the function (io::read_function_ref): one nothing names is
+  // worth a warning (a load that forgot its `function`), kept here with its place in the file.
+  mutable bool named = false;
+  std::string unused_warning;
 };
 
 struct GridConfig {

@@ -150,7 +150,7 @@ Contact<D> build_contact(const Config& c, const Model<D>& model) {
       // A free rigid body (rigid_mass) is an ordinary partner of its nodal mass in the contact
       // correction: it responds to the impulses, and within a step the correction must not treat
       // it as infinitely heavy (the explicit update of its velocity then rang without decay).
-      if (motion.rigid_mass == 0.0 && std::all_of(motion.prescribed.begin(), motion.prescribed.end(), [](bool p) { return p; }))
+      if (motion.rigid_mass == 0.0 && motion.fully_prescribed())
         r.rigid_body[f] = b;
     }
   }

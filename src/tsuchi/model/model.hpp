@@ -13,6 +13,7 @@
 #include "tsuchi/shape/gimp.hpp"
 #include "tsuchi/shape/stencil.hpp"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,8 @@ struct BodyMotion {
   std::array<bool, D> free{};
 
   double velocity(int d, const Vec<D>& x) const { return v0[d] + grad.row(d).dot(x); }
+  // Every component prescribed: with rigid_mass = 0, a body rigid in contact (a platen or wall).
+  bool fully_prescribed() const { return std::all_of(prescribed.begin(), prescribed.end(), [](bool p) { return p; }); }
 };
 
 template <int D>

@@ -469,8 +469,8 @@ TEST(Geometry, IntervalSetOperations) {
 
 TEST(Geometry, SelfIntersectingPolygonIsRefused) {
   const std::string msg = error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [1, 1], [1, 0], [0, 1]]\n", 2);
-  expect_message(msg, {"shapes.toml:3:12: key 'body.vertices'", "edge 1 from (0, 0) to (1, 1)",
-                       "edge 3 from (1, 0) to (0, 1)", "crosses"});
+  expect_message(msg, {"shapes.toml:3:12: key 'body.vertices'", "edge 0 from (0, 0) to (1, 1)",
+                       "edge 2 from (1, 0) to (0, 1)", "crosses"});
   expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [1, 1]]\n", 2), {"at least 3"});
   expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [1, 1], [2, 2]]\n", 2), {"zero area"});
   // Touching itself at a vertex; a spike that doubles back along its own edge; a repeated vertex.
@@ -478,9 +478,9 @@ TEST(Geometry, SelfIntersectingPolygonIsRefused) {
       error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [2, 0], [1, 1], [2, 2], [0, 2], [1, 1]]\n", 2),
       {"crosses or touches"});
   expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [2, 0], [2, 2], [2, 1]]\n", 2),
-                 {"edge 2 from (2, 0) to (2, 2) of the outline crosses or touches edge"});
+                 {"edge 1 from (2, 0) to (2, 2) of the outline crosses or touches edge"});
   expect_message(error_of("[body]\nshape = 'polygon'\nvertices = [[0, 0], [2, 0], [2, 0], [0, 2]]\n", 2),
-                 {"zero-length edge: vertex 3 repeats vertex 2"});
+                 {"zero-length edge: vertex 2 repeats vertex 1"});
 }
 
 TEST(Geometry, LargePolygonIsCheckedAndMeasuredQuickly) {
@@ -503,11 +503,11 @@ TEST(Geometry, LargePolygonIsCheckedAndMeasuredQuickly) {
 TEST(Geometry, HoleOutsideOutlineOrOverlappingIsRefused) {
   const std::string outline = "[body]\nshape = 'polygon'\nvertices = [[0, 0], [4, 0], [4, 4], [0, 4]]\n";
   expect_message(error_of(outline + "holes = [[[5, 1], [6, 1], [6, 2]]]\n", 2),
-                 {"shapes.toml:4:9: key 'body.holes'", "hole 1 is not inside the outline"});
+                 {"shapes.toml:4:9: key 'body.holes'", "hole 0 is not inside the outline"});
   expect_message(error_of(outline + "holes = [[[3, 1], [5, 1], [3, 2]]]\n", 2),
-                 {"key 'body.holes'", "of the outline crosses or touches", "of hole 1"});
+                 {"key 'body.holes'", "of the outline crosses or touches", "of hole 0"});
   expect_message(error_of(outline + "holes = [[[1, 1], [3, 1], [3, 3], [1, 3]], [[1.5, 1.5], [2, 1.5], [2, 2]]]\n", 2),
-                 {"key 'body.holes'", "hole 2 lies inside hole 1"});
+                 {"key 'body.holes'", "hole 1 lies inside hole 0"});
 }
 
 TEST(Geometry, BadStlIsRefused) {

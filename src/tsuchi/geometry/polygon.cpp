@@ -45,10 +45,10 @@ double signed_area2(const Ring& r) {
 std::string point_text(const Point2& p) { return fmt::format("({}, {})", p[0], p[1]); }
 
 std::string edge_text(const Ring& r, std::size_t i) {
-  return fmt::format("edge {} from {} to {}", i + 1, point_text(r[i]), point_text(r[(i + 1) % r.size()]));
+  return fmt::format("edge {} from {} to {}", i, point_text(r[i]), point_text(r[(i + 1) % r.size()]));
 }
 
-std::string ring_name(std::size_t k) { return k == 0 ? "the outline" : fmt::format("hole {}", k); }
+std::string ring_name(std::size_t k) { return k == 0 ? "the outline" : fmt::format("hole {}", k - 1); }
 
 // The crossings of the line {coordinate 1-axis = p[1-axis]} with the ring's edges, by the
 // half-open rule of polygon.hpp, as values of coordinate `axis`.
@@ -84,7 +84,7 @@ std::optional<std::string> PolygonRegion::problem(const Ring& outline, const std
     for (std::size_t i = 0; i < n; ++i)
       if (r[i] == r[(i + 1) % n])
         return fmt::format("{} has a zero-length edge: vertex {} repeats vertex {} at {}", ring_name(k),
-                           (i + 1) % n + 1, i + 1, point_text(r[i]));
+                           (i + 1) % n, i, point_text(r[i]));
     // All vertices on the line from the first to the farthest one: zero area. (Not the signed
     // area: a figure of eight has zero signed area, and is refused below for its crossing.)
     std::size_t far = 0;

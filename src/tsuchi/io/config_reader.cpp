@@ -105,7 +105,7 @@ void read_initial_velocity(Section& s, int dim, BodyConfig& b) {
       try {
         Expression{f->get()};
       } catch (const std::invalid_argument& err) {
-        s.fail("velocity", fmt::format("entry {} \"{}\" is not a valid formula: {}", d + 1, f->get(), err.what()));
+        s.fail("velocity", fmt::format("entry {} ({}) \"{}\" is not a valid formula: {}", d, "xyz"[d], f->get(), err.what()));
       }
       b.velocity_formula[d] = f->get();
     } else {
@@ -317,7 +317,7 @@ void read_body(Section& s, Config& c, std::size_t index) {
         const toml::node& n_d = *a->get(static_cast<std::size_t>(d));
         auto e = n_d.as_integer();
         if (!e || !valid(e->get()))
-          s.fail("particles_per_cell", fmt::format("expected {}, got {} in entry {}", expected, describe(n_d), d + 1));
+          s.fail("particles_per_cell", fmt::format("expected {}, got {} in entry {}", expected, describe(n_d), d));
         b.particles_per_cell[d] = static_cast<int>(e->get());
       }
     } else {
@@ -567,7 +567,7 @@ void read_contact(Section& s, Config& c) {
     }
     if (body[e] < 0)
       s.fail("bodies", fmt::format("expected the names of bodies defined ({}), got {} in entry {}",
-                                   quoted_list(c.bodies, &BodyConfig::name), describe(entry), e + 1));
+                                   quoted_list(c.bodies, &BodyConfig::name), describe(entry), e));
   }
   if (body[0] == body[1])
     s.fail("bodies", fmt::format("expected two different bodies, got \"{}\" twice: a body does not meet itself",

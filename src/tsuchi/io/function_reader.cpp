@@ -24,13 +24,13 @@ TimeFunction read_table(Section& s) {
   for (std::size_t k = 0; k < a->size(); ++k) {
     auto pair = a->get(k)->as_array();
     if (!pair || pair->size() != 2)
-      s.fail("table", fmt::format("expected {}, got {} in entry {}", expected, describe(*a->get(k)), k + 1));
+      s.fail("table", fmt::format("expected {}, got {} in entry {}", expected, describe(*a->get(k)), k));
     t.push_back(s.number_of("table", *pair->get(0), expected));
     v.push_back(s.number_of("table", *pair->get(1), expected));
   }
   check_increasing(t, [&](std::size_t k) {
-    s.fail("table", fmt::format("expected times increasing, got t = {} in entry {} after t = {} in entry {}", t[k], k + 1,
-                                t[k - 1], k));
+    s.fail("table", fmt::format("expected times increasing, got t = {} in entry {} after t = {} in entry {}", t[k], k,
+                                t[k - 1], k - 1));
   });
   return TimeFunction::table(std::move(t), std::move(v));
 }

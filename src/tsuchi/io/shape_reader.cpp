@@ -73,7 +73,7 @@ geometry::Ring read_ring(const Section& s, std::string_view key, const toml::nod
   geometry::Ring r;
   for (std::size_t i = 0; i < a->size(); ++i) {
     const Triple t =
-        s.vector_of(key, *a->get(i), 2, fmt::format("the two coordinates in m of vertex {} of {}", i + 1, what), any);
+        s.vector_of(key, *a->get(i), 2, fmt::format("the two coordinates in m of vertex {} of {}", i, what), any);
     r.emplace_back(t[0], t[1]);
   }
   if (r.size() > 1 && r.front() == r.back()) r.pop_back();
@@ -94,7 +94,7 @@ geometry::PolygonRegion read_region(Section& s) {
       s.fail("holes",
              fmt::format("expected an array of holes, each an array of [x, y] vertices, got {}", describe(*h)));
     for (std::size_t i = 0; i < a->size(); ++i)
-      holes.push_back(read_ring(s, "holes", *a->get(i), fmt::format("hole {}", i + 1)));
+      holes.push_back(read_ring(s, "holes", *a->get(i), fmt::format("hole {}", i)));
     if (auto why = geometry::PolygonRegion::problem(outline, holes))
       s.fail("holes",
              fmt::format("expected holes inside the outline, apart from each other and from it, got: {}", *why));

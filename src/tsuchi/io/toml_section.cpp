@@ -62,6 +62,32 @@ void apply_override(toml::table& root, const std::string& assignment, const std:
   t->insert_or_assign(parts.back(), *parsed.get("v"));
 }
 
+// toml++ reports a string left open by what it meets next: the line break ("unescaped control
+// characters") or the end of the file. Both mean a missing closing quote, which is what a user
+// needs to hear; other control characters inside a string keep toml++'s own words.
+std::string describe_parse_error(const std::string& text, const toml::parse_error& e) {
+  const std::string what(e.description());
+  if (what.find("parsing") == std::string::npos || what.find("string") == std::string::npos) return what;
+  if (what.find("end-of-file") != std::string::npos)
+    return "a string is not closed: the file ends before its closing quote";
+  if (what.find("control characters") == std::string::npos) return what;
+  // The column of the error against the length of its line, in code points (toml++ counts so).
+  std::size_t begin = 0;
+  for (std::size_t line = 1; line < e.source().begin.line && begin != std::string::npos; ++line) {
+    begin = text.find('\n', begin);
+    if (begin != std::string::npos) ++begin;
+  }
+  if (begin == std::string::npos) return what;
+  std::size_t end = text.find_first_of("\r\n", begin);
+  if (end == std::string::npos) end = text.size();
+  const auto points = static_cast<std::size_t>(std::count_if(
+      text.begin() + static_cast<std::ptrdiff_t>(begin), text.begin() + static_cast<std::ptrdiff_t>(end),
+      [](char ch) { return (static_cast<unsigned char>(ch) & 0xC0) != 0x80; }));
+  if (e.source().begin.column <= points) return what;
+  return "a string is not closed on its line: its closing quote is missing (a string over several lines needs "
+         "triple quotes, \"\"\" or \'\'\')";
+}
+
 }  // namespace
 
 toml::table parse_toml(const std::string& text, const std::string& file, const std::vector<std::string>& overrides) {
@@ -77,7 +103,7 @@ toml::table parse_toml(const std::string& text, const std::string& file, const s
     root = toml::parse(std::string_view(text), std::string_view(file));
   } catch (const toml::parse_error& e) {
     throw InputError(fmt::format("{}:{}:{}: {}", file, e.source().begin.line, e.source().begin.column,
-                                 e.description()));
+                                 describe_parse_error(text, e)));
   }
   for (const auto& o : overrides) apply_override(root, o, file);
   return root;

@@ -241,7 +241,7 @@ class Section {
       r[d] = number_of(key, e, expected);
       if (ok && !ok(r[d]))
         fail(key, fmt::format("expected {} in every entry, got {} in entry {}", expected,
-                              describe(e), d + 1));
+                              describe(e), d));
     }
     return r;
   }

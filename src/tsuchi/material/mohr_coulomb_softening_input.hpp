@@ -40,16 +40,16 @@ SofteningTable read_softening_table(Table& s, std::string_view key, const std::s
   for (std::size_t i = 0; i < a->size(); ++i) {
     const auto* pair = a->get(i)->as_array();
     if (!pair || pair->size() != 2)
-      s.fail(key, fmt::format("expected every entry a pair [k, value], got entry {} {}", i + 1,
+      s.fail(key, fmt::format("expected every entry a pair [k, value], got entry {} {}", i,
                               pair ? fmt::format("with {} numbers", pair->size()) : std::string("that is not an array")));
     const double k = s.number_of(key, *pair->get(0), "a softening parameter k (a strain) in every pair");
     const double v = s.number_of(key, *pair->get(1), both);
     if (i == 0 && k != 0.0)
-      s.fail(key, fmt::format("expected the table to start at k = 0 (the strength of a new point), got k = {} in entry 1", k));
+      s.fail(key, fmt::format("expected the table to start at k = 0 (the strength of a new point), got k = {} in entry 0", k));
     if (i > 0 && !(k > t.strain.back()))
       s.fail(key, fmt::format("expected k to increase strictly along the table, got k = {} in entry {} after k = {}", k,
-                              i + 1, t.strain.back()));
-    if (ok && !ok(v)) s.fail(key, fmt::format("expected {} in every entry, got {} in entry {}", expected, v, i + 1));
+                              i, t.strain.back()));
+    if (ok && !ok(v)) s.fail(key, fmt::format("expected {} in every entry, got {} in entry {}", expected, v, i));
     t.strain.push_back(k), t.value.push_back(v);
   }
   return t;

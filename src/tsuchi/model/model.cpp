@@ -373,9 +373,9 @@ void add_body(const Config& c, int body, const Placement<D>& pl, Model<D>& m) {
       p.v_p[q][d] = f(x[0], x[1], D == 3 ? x[D - 1] : 0.0);
       if (!std::isfinite(p.v_p[q][d]))
         throw InputError(fmt::format(
-            "{}: key 'bodies.{}.velocity': expected a finite velocity, got {} from entry {} \"{}\" at particle {} "
-            "({}{})",
-            b.velocity_where.empty() ? c.source : b.velocity_where, body, p.v_p[q][d], d + 1, b.velocity_formula[d], q,
+            "{}: key 'bodies.{}.velocity': expected a finite velocity, got {} from its {} component (entry {}) \"{}\" at "
+            "particle {} ({}{})",
+            b.velocity_where.empty() ? c.source : b.velocity_where, body, p.v_p[q][d], "xyz"[d], d, b.velocity_formula[d], q,
             fmt::format("{}, {}", x[0], x[1]), D == 3 ? fmt::format(", {}", x[D - 1]) : std::string{}));
     }
   }

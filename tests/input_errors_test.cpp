@@ -217,7 +217,7 @@ TEST(InputErrors, ZeroCellSize) {
 TEST(InputErrors, NegativeExtent) {
   const std::string text = replace(kValid, "extent = [1.0, 0.5]", "extent = [1.0, -0.5]");
   const std::string msg = input_error(text);
-  expect_message(msg, {at_line(line_of(text, "extent")), "grid.extent", "positive lengths", "-0.5", "entry 2"});
+  expect_message(msg, {at_line(line_of(text, "extent")), "grid.extent", "positive lengths", "-0.5", "entry 1"});
 }
 
 TEST(InputErrors, ExtentNotWholeCells) {

@@ -19,6 +19,7 @@
 #include <complex>
 #include <cstdio>
 #include <numbers>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -338,6 +339,129 @@ TEST(BaseMotion, OneAndTwoThreadsGiveTheSameBits) {
     EXPECT_TRUE(results[0] == results[1]) << c->source;
   }
 }
+
+// set_boundary_conditions visits each set's own box (not every node per set): against the
+// definition of node_sets.hpp, node by node over every set in input order, on 60 seeded boxes
+// that overlap, start and end on nodes, within the 1e-9 h tolerance of one, between nodes or
+// beyond the grid, fixing or driving components: the same nodes, driven nodes and masks, held
+// components and held list, in 2D and 3D.
+template <int D>
+void check_node_sets_against_definition() {
+  std::mt19937 rng(20261207u);
+  const double h = 0.1;
+  const int cells[3] = {13, 9, 6};
+  auto coordinate = [&](int d) {
+    const int k = std::uniform_int_distribution<int>(-2, cells[d] + 2)(rng);
+    const double offsets[5] = {0.0, 0.4e-9, -0.4e-9, 0.3, -0.3};
+    return (k + offsets[std::uniform_int_distribution<int>(0, 4)(rng)]) * h;
+  };
+  std::string text = fmt::format(R"toml(
+[model]
+dimension = {0}
+[grid]
+origin = [{1}]
+extent = [{2}]
+cell_size = {3}
+[[materials]]
+name = "soil"
+model = "linear_elastic"
+density = 2000.0
+youngs_modulus = 1.0e7
+poisson_ratio = 0.3
+[[bodies]]
+name = "block"
+material = "soil"
+min = [{4}]
+max = [{5}]
+[time]
+end = 0.01
+courant = 0.5
+[output]
+frames = false
+[boundary]
+x_min = "roller"
+y_max = "fixed"
+)toml", D, D == 2 ? "0.0, 0.0" : "0.0, 0.0, 0.0", D == 2 ? "1.3, 0.9" : "1.3, 0.9, 0.6", h,
+                                 D == 2 ? "0.2, 0.2" : "0.2, 0.2, 0.2", D == 2 ? "0.5, 0.5" : "0.5, 0.5, 0.5");
+  const char* axes = "xyz";
+  int written = 0;
+  while (written < 60) {
+    double lo[3], hi[3];
+    bool holds_a_node = true;
+    for (int d = 0; d < D; ++d) {
+      lo[d] = coordinate(d), hi[d] = coordinate(d);
+      if (hi[d] < lo[d]) std::swap(lo[d], hi[d]);
+      // A box must hold a node (an input error otherwise): a node number within [lo, hi] on the grid.
+      const double first = std::max(0.0, std::ceil(lo[d] / h - 1e-6)), last = std::min<double>(cells[d], std::floor(hi[d] / h + 1e-6));
+      holds_a_node = holds_a_node && first <= last && lo[d] <= first * h + 1e-9 * h && hi[d] >= last * h - 1e-9 * h;
+    }
+    if (!holds_a_node) continue;
+    std::string fix, vel;
+    for (int d = 0; d < D; ++d) {
+      const int role = std::uniform_int_distribution<int>(0, 2)(rng);  // free, fixed, driven
+      if (role == 1) fix += fmt::format("{}\"{}\"", fix.empty() ? "" : ", ", axes[d]);
+      if (role == 2) vel += fmt::format("{}{} = {}", vel.empty() ? "" : ", ", axes[d], 0.01 * (written + 1));
+    }
+    if (fix.empty() && vel.empty()) fix = "\"x\"";
+    text += "[[boundary.nodes]]\nmin = [";
+    for (int d = 0; d < D; ++d) text += fmt::format("{}{:.17g}", d ? ", " : "", lo[d]);
+    text += "]\nmax = [";
+    for (int d = 0; d < D; ++d) text += fmt::format("{}{:.17g}", d ? ", " : "", hi[d]);
+    text += "]\n";
+    if (!fix.empty()) text += "fix = [" + fix + "]\n";
+    if (!vel.empty()) text += "velocity = { " + vel + " }\n";
+    ++written;
+  }
+  const Config c = read_config_string(text, "sets.toml");
+  const Model<D> m = build_model<D>(c);
+  const Grid<D>& g = m.grid;
+  const auto& configs = c.boundary.node_sets;
+  ASSERT_EQ(m.node_sets.size(), configs.size());
+  std::vector<std::vector<std::int64_t>> nodes(configs.size()), driven(configs.size());
+  std::vector<std::vector<std::uint8_t>> masks(configs.size());
+  std::vector<std::int64_t> held;
+  std::size_t driven_total = 0;
+  for (std::int64_t k = 0; k < static_cast<std::int64_t>(g.size()); ++k) {
+    if (!g.is_node(k)) continue;
+    const auto ijk = g.ijk(k);
+    std::uint8_t mask = 0;
+    for (int d = 0; d < D; ++d) {
+      if (d == 0 && ijk[0] == 0) mask |= 1u;                                          // x_min roller
+      if (d == 1 && ijk[1] == g.n_nodes[1] - 1) mask |= static_cast<std::uint8_t>((1u << D) - 1);  // y_max fixed
+    }
+    std::array<int, D> by;
+    by.fill(-1);
+    const Vec<D> x = g.position(ijk);
+    for (std::size_t s = 0; s < configs.size(); ++s) {
+      bool inside = true;
+      for (int d = 0; d < D; ++d) inside = inside && x[d] >= configs[s].min[d] - 1e-9 * h && x[d] <= configs[s].max[d] + 1e-9 * h;
+      if (!inside) continue;
+      nodes[s].push_back(k);
+      for (int d = 0; d < D; ++d) {
+        if (configs[s].fix[d]) mask |= static_cast<std::uint8_t>(1u << d), by[d] = -1;
+        if (configs[s].driven[d]) mask |= static_cast<std::uint8_t>(1u << d), by[d] = static_cast<int>(s);
+      }
+    }
+    for (std::size_t s = 0; s < configs.size(); ++s) {
+      std::uint8_t bits = 0;
+      for (int d = 0; d < D; ++d)
+        if (by[d] == static_cast<int>(s)) bits = static_cast<std::uint8_t>(bits | (1u << d));
+      if (bits) driven[s].push_back(k), masks[s].push_back(bits), ++driven_total;
+    }
+    EXPECT_EQ(g.fixed_g[static_cast<std::size_t>(k)], mask) << "node " << k;
+    if (mask) held.push_back(k);
+  }
+  for (std::size_t s = 0; s < configs.size(); ++s) {
+    EXPECT_EQ(m.node_sets[s].nodes, nodes[s]) << "set " << s;
+    EXPECT_EQ(m.node_sets[s].driven_nodes, driven[s]) << "set " << s;
+    EXPECT_EQ(m.node_sets[s].driven_mask, masks[s]) << "set " << s;
+  }
+  EXPECT_EQ(m.held_nodes, held);
+  EXPECT_GT(driven_total, 10u);  // the draw drives some components somewhere
+}
+
+TEST(NodeSets, HoldTheNodesTheirDefinitionGives) { check_node_sets_against_definition<2>(); }
+TEST(NodeSets, HoldTheNodesTheirDefinitionGives3D) { check_node_sets_against_definition<3>(); }
 
 }  // namespace
 }  // namespace tsuchi

@@ -30,8 +30,7 @@ void read_node_set_motion(Section& s, const Config& c, NodeSetConfig& ns) {
   if (s.has("name")) {
     ns.name = s.one_line("name", "a node-set name");
     if (ns.name.empty()) s.fail("name", "expected a non-empty node-set name");
-    for (const auto& other : c.boundary.node_sets)
-      if (other.name == ns.name) s.fail("name", fmt::format("node set \"{}\" is defined twice", printable(ns.name)));
+    // Names defined twice: read_boundary, which sees every set.
   } else {
     s.get("name");
   }

@@ -397,6 +397,20 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
+    // CLI11 says "A subcommand is required" for `tsuchi`, `tsuchi frobnicate` and `tsuchi --bogus`
+    // alike: name what was given and the commands there are.
+    if (dynamic_cast<const CLI::RequiredError*>(&e) && !run_cmd->parsed() && !check_cmd->parsed() &&
+        !fos_cmd->parsed() && !element_cmd->parsed()) {
+      std::string names;
+      for (const auto* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+        names += (names.empty() ? "" : ", ") + sub->get_name();
+      if (argc < 2)
+        fmt::print(stderr, "expected a command: one of {} (tsuchi --help)\n", names);
+      else
+        fmt::print(stderr, "unknown {} '{}': expected a command first, one of {} (tsuchi --help)\n",
+                   argv[1][0] == '-' ? "option" : "command", tsuchi::app::shown(argv[1]), names);
+      return exit_code::usage;
+    }
     return app.exit(e) == 0 ? exit_code::ok : exit_code::usage;
   }
   // Line by line: piped into one log, the summary (stdout) comes before the progress (stderr).

@@ -269,10 +269,19 @@ def main():
         code, msg = run(binary, inp, "-o", other, "--restart", ck)
         check(code == 2 and "restart into the output directory of the checkpointed run" in msg,
               f"a restart into another directory: exit {code}: {msg}")
+        check(not os.path.exists(other), "a refused restart created its output directory")
         snapshot = files(d)
         code, msg = run(binary, inp, "-o", d, "--restart", ck, "--set", "time.end=0.01")
         check(code == 2 and "past time.end = 0.01 s" in msg, f"a restart past its end: exit {code}: {msg}")
         check(files(d) == snapshot, "a refused restart changed the output directory")
+
+        # 14. A command that does not exist is named, with the commands there are (not CLI11's
+        #     "A subcommand is required").
+        for args, text in [(["frobnicate", inp], "unknown command 'frobnicate'"), (["--bogus"], "unknown option '--bogus'"),
+                           ([], "expected a command")]:
+            r = subprocess.run([binary, *args], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60)
+            check(r.returncode == 1 and text in r.stdout and "run, check, fos, element" in r.stdout,
+                  f"tsuchi {' '.join(args)}: exit {r.returncode}: {r.stdout}")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     if failures:

@@ -92,13 +92,28 @@ void check_output_paths(const Config& c, const std::string& directory, const std
                                    f.where, f.path, directory, dir_at));
 }
 
+namespace {
+
+// A restart continues the frames and CSV files of a directory that exists: one that does not is
+// refused before prepare_output_directory would create it (and leave it behind, empty).
+const std::string& existing_for_restart(const std::string& dir, const OutputHistory* resume) {
+  std::error_code ec;
+  if (resume && !fs::is_directory(dir, ec))
+    throw InputError(fmt::format("cannot continue the run in {}: there is no such directory; restart into the output "
+                                 "directory of the checkpointed run (-o), where its frames and CSV files are",
+                                 dir));
+  return dir;
+}
+
+}  // namespace
+
 template <int D>
 OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output, std::string directory,
                               std::vector<std::string> recorder_names, const OutputHistory* resume, bool staged)
     : m_(model),
       output_(output),
       dir_(std::move(directory)),
-      lock_((prepare_output_directory(dir_), dir_)),
+      lock_((prepare_output_directory(existing_for_restart(dir_, resume)), dir_)),
       recorders_(std::move(recorder_names)),
       staged_(staged) {
   std::string global_header = "time,step,dt,kinetic_energy,strain_energy,gravity_potential,total_energy,mass";

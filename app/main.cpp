@@ -262,6 +262,7 @@ int run(const Config& c, const Options& o) {
     last = p;
     if (!o.quiet) reporter.update(p);
   };
+  ro.on_warning = [&](const std::string& w) { reporter.note("warning: " + app::shown(w)); };
   ro.on_stage_end = [&](const StageReport& r) {
     if (r.equilibrium_asked && r.end != "equilibrium")
       say(stderr, "warning: stage \"{}\" reached {} before equilibrium; {}\n", r.name, r.end,

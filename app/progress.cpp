@@ -45,6 +45,11 @@ void ProgressReporter::finish(const Progress& p) {
   std::fflush(out_);
 }
 
+void ProgressReporter::note(const std::string& line) {
+  say(out_, "{}{}\n", tty_ ? "\r\x1b[K" : "", line);
+  std::fflush(out_);
+}
+
 void ProgressReporter::print(const Progress& p, bool final) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   const double fraction = std::clamp(p.fraction, 0.0, 1.0);

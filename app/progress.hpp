@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <string>
 
 namespace tsuchi::app {
 
@@ -13,6 +14,8 @@ class ProgressReporter {
   explicit ProgressReporter(std::FILE* out);
   void update(const Progress& p);
   void finish(const Progress& p);
+  // A line of its own between the progress updates (on a terminal, the bar's line is cleared first).
+  void note(const std::string& line);
 
  private:
   void print(const Progress& p, bool final);

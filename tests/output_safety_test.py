@@ -275,6 +275,17 @@ def main():
         check(code == 2 and "past time.end = 0.01 s" in msg, f"a restart past its end: exit {code}: {msg}")
         check(files(d) == snapshot, "a refused restart changed the output directory")
 
+        # 15. Frames labelled by a recorder that does not grow (the column's top falls: velocity_y
+        #     goes negative): said once, with the frame and both labels; the frames are written.
+        fl = os.path.join(tmp, "falling_label")
+        code, msg = run(binary, inp, "-o", fl, "--set", 'output.frame_label="top_v"', "--set", "time.max_steps=400",
+                        "--set", "output.interval=0.002")
+        check(code == 0 and msg.count("(output.frame_label), not above") == 1 and 'recorder "top_v"' in msg,
+              f"a frame label that falls: exit {code}, expected one warning: {msg}")
+        grows = os.path.join(tmp, "time_label")
+        code, msg = run(binary, inp, "-o", grows, "--set", "time.max_steps=400", "--set", "output.interval=0.002")
+        check(code == 0 and "frame_label" not in msg, f"frames labelled by time: exit {code}: {msg}")
+
         # 14. A command that does not exist is named, with the commands there are (not CLI11's
         #     "A subcommand is required").
         for args, text in [(["frobnicate", inp], "unknown command 'frobnicate'"), (["--bogus"], "unknown option '--bogus'"),

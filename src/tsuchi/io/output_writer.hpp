@@ -15,6 +15,7 @@
 #include "tsuchi/model/model.hpp"
 
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -88,6 +89,10 @@ class OutputWriter {
 
   const std::string& directory() const { return dir_; }
   std::size_t frames_written() const { return h_.frames.size(); }
+  // The label (.pvd time) of the last frame written, if any.
+  std::optional<double> last_label() const {
+    return h_.frames.empty() ? std::nullopt : std::optional<double>(h_.frames.back().first);
+  }
   // The history for a checkpoint: call flush_global(true) first.
   OutputHistory history() const;
 

@@ -248,6 +248,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   // Frames are labelled by time, or by the value of the output.frame_label recorder.
   const Recorder<D>* label = oc.frame_label_recorder >= 0 ? &recorders[static_cast<std::size_t>(oc.frame_label_recorder)] : nullptr;
   const bool contact = model.contact.active();
+  bool label_warned = false;
   auto write_frame = [&](double time) {
     ContactPoints points;
     if (contact)
@@ -256,7 +257,18 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         for (int d = 0; d < D; ++d) x[d] = n.x[d], normal[d] = n.normal[d], force[d] = n.force[d];
         points.x.push_back(x), points.normal.push_back(normal), points.force.push_back(force), points.kind.push_back(n.kind);
       }
-    out->frame(label ? label->value(*solver) : time, contact ? &points : nullptr);
+    const double value = label ? label->value(*solver) : time;
+    // ParaView orders a .pvd's frames by their time: labels that fall back or repeat play the
+    // frames out of the run's order (or hide one behind another). Written as asked, said once.
+    if (label && !label_warned && out->last_label() && !(value > *out->last_label()) && options.on_warning) {
+      label_warned = true;
+      options.on_warning(fmt::format(
+          "frame {} is labelled {:.6g} by recorder \"{}\" (output.frame_label), not above the {:.6g} of the frame "
+          "before: ParaView orders the frames of the .pvd by label, so they will not play in the order of the run; "
+          "label the frames by a recorder that grows (docs/input.md, [output])",
+          out->frames_written(), value, oc.frame_label, *out->last_label()));
+    }
+    out->frame(value, contact ? &points : nullptr);
   };
   if (out && !options.restart) {
     out->global_row(0.0, 0, 0.0, step_report(*solver), recorder_row());

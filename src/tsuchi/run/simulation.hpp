@@ -44,6 +44,8 @@ struct RunOptions {
   // the input, -o and every --set of this run ("tsuchi run m.toml -o out --set ..."), for messages.
   std::string resume_command = "tsuchi run ...";
   std::function<void(const StageReport&)> on_stage_end;  // staged runs: after each stage
+  // A warning the run meets on the way (a frame label that does not grow), said once each.
+  std::function<void(const std::string&)> on_warning;
   // Stop after this stage (0-based) of a staged run; -1: run them all (`tsuchi fos` stops after its stage).
   int last_stage = -1;
 };

@@ -406,10 +406,10 @@ int main(int argc, char** argv) {
       for (const auto* sub : app.get_subcommands([](const CLI::App*) { return true; }))
         names += (names.empty() ? "" : ", ") + sub->get_name();
       if (argc < 2)
-        fmt::print(stderr, "expected a command: one of {} (tsuchi --help)\n", names);
+        say(stderr, "expected a command: one of {} (tsuchi --help)\n", names);
       else
-        fmt::print(stderr, "unknown {} '{}': expected a command first, one of {} (tsuchi --help)\n",
-                   argv[1][0] == '-' ? "option" : "command", tsuchi::app::shown(argv[1]), names);
+        say(stderr, "unknown {} '{}': expected a command first, one of {} (tsuchi --help)\n",
+            argv[1][0] == '-' ? "option" : "command", app::shown(argv[1]), names);
       return exit_code::usage;
     }
     return app.exit(e) == 0 ? exit_code::ok : exit_code::usage;

@@ -46,24 +46,21 @@ void set_boundary_conditions(const Config& c, Grid<D>& g, std::vector<NodeSet<D>
       }
     g.fixed_g[idx] = mask;
   }
-  // Then the sets in input order, each over the nodes of its own box only (a scan of every node
-  // per set took 48 s for 2e4 one-node sets on 1e6 nodes). A later set overrides an earlier one
-  // component by component: per node the operations run in set order, as they did node-major.
-  // Per node and component, the set that drives it (-1: fixed at zero or free); only when a set drives.
-  bool any_driven = false;
-  for (const auto& sc : configs)
-    for (int d = 0; d < D; ++d) any_driven = any_driven || sc.driven[d];
-  std::vector<std::array<int, D>> driver;
-  if (any_driven) {
-    std::array<int, D> none;
-    none.fill(-1);
-    driver.assign(n, none);
-  }
+  // Then the sets, each over the nodes of its own box only (a scan of every node per set took
+  // 42.5 s for 2e4 one-node sets on 1e6 nodes). Where sets overlap, the last set naming a
+  // component decides it: walking the sets from the last, a set drives the components it names
+  // that no later set has claimed at the node (`claimed`, a bit per component).
+  std::vector<std::uint8_t> claimed(n, 0);
   std::array<std::vector<int>, D> axis;
-  for (std::size_t s = 0; s < configs.size(); ++s) {
+  for (std::size_t s = configs.size(); s-- > 0;) {
     const auto& sc = configs[s];
+    std::uint8_t names = 0, drives = 0;
+    for (int d = 0; d < D; ++d) {
+      if (sc.fix[d] || sc.driven[d]) names = static_cast<std::uint8_t>(names | (1u << d));
+      if (sc.driven[d]) drives = static_cast<std::uint8_t>(drives | (1u << d));
+    }
     // Per axis, the node numbers inside [min - tol, max + tol]: candidates one node either side of
-    // the division, then the same comparison of positions as before, so no rounding differs.
+    // the division, then the comparison of positions of Grid::position, so no rounding differs.
     std::size_t count = 1;
     for (int d = 0; d < D; ++d) {
       axis[d].clear();
@@ -88,24 +85,12 @@ void set_boundary_conditions(const Config& c, Grid<D>& g, std::vector<NodeSet<D>
     std::sort(nodes.begin(), nodes.end());  // node order, as the step and the outputs expect
     for (const std::int64_t k : nodes) {
       const auto idx = static_cast<std::size_t>(k);
-      for (int d = 0; d < D; ++d) {
-        if (sc.fix[d]) g.fixed_g[idx] |= static_cast<std::uint8_t>(1u << d);
-        if (sc.driven[d]) g.fixed_g[idx] |= static_cast<std::uint8_t>(1u << d);
-        if (any_driven) {
-          if (sc.fix[d]) driver[idx][d] = -1;
-          if (sc.driven[d]) driver[idx][d] = static_cast<int>(s);
-        }
-      }
+      const auto mine = static_cast<std::uint8_t>(drives & ~claimed[idx]);
+      if (mine) sets[s].driven_nodes.push_back(k), sets[s].driven_mask.push_back(mine);
+      claimed[idx] = static_cast<std::uint8_t>(claimed[idx] | names);
+      g.fixed_g[idx] = static_cast<std::uint8_t>(g.fixed_g[idx] | names);
     }
   }
-  if (any_driven)
-    for (std::size_t s = 0; s < configs.size(); ++s)
-      for (const std::int64_t k : sets[s].nodes) {
-        std::uint8_t drives = 0;
-        for (int d = 0; d < D; ++d)
-          if (driver[static_cast<std::size_t>(k)][d] == static_cast<int>(s)) drives = static_cast<std::uint8_t>(drives | (1u << d));
-        if (drives) sets[s].driven_nodes.push_back(k), sets[s].driven_mask.push_back(drives);
-      }
   for (std::size_t idx = 0; idx < n; ++idx)
     if (g.fixed_g[idx]) held.push_back(static_cast<std::int64_t>(idx));
   for (std::size_t s = 0; s < sets.size(); ++s)

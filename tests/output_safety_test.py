@@ -3,8 +3,9 @@
 other are refused before anything is written; a second run into a busy output directory stops at
 once with exit 4 and the first run's process id, and the first run ends as if alone; frames of an
 earlier run do not survive into a new one; global.csv is appended to, so memory and checkpoint
-size do not grow with the number of rows; a restart into another directory, or past its end time,
-is refused.
+size do not grow with the number of rows; a restart into another directory (which it does not
+create), or past its end time, is refused; a frame label that does not grow is warned of once; an
+unknown command is named.
 
 usage: output_safety_test.py TSUCHI_BINARY
 """
@@ -275,7 +276,7 @@ def main():
         check(code == 2 and "past time.end = 0.01 s" in msg, f"a restart past its end: exit {code}: {msg}")
         check(files(d) == snapshot, "a refused restart changed the output directory")
 
-        # 15. Frames labelled by a recorder that does not grow (the column's top falls: velocity_y
+        # 14. Frames labelled by a recorder that does not grow (the column's top falls: velocity_y
         #     goes negative): said once, with the frame and both labels; the frames are written.
         fl = os.path.join(tmp, "falling_label")
         code, msg = run(binary, inp, "-o", fl, "--set", 'output.frame_label="top_v"', "--set", "time.max_steps=400",
@@ -286,7 +287,7 @@ def main():
         code, msg = run(binary, inp, "-o", grows, "--set", "time.max_steps=400", "--set", "output.interval=0.002")
         check(code == 0 and "frame_label" not in msg, f"frames labelled by time: exit {code}: {msg}")
 
-        # 14. A command that does not exist is named, with the commands there are (not CLI11's
+        # 15. A command that does not exist is named, with the commands there are (not CLI11's
         #     "A subcommand is required").
         for args, text in [(["frobnicate", inp], "unknown command 'frobnicate'"), (["--bogus"], "unknown option '--bogus'"),
                            ([], "expected a command")]:

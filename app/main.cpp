@@ -17,6 +17,7 @@
 #include "tsuchi/model/stage_change.hpp"
 #include "tsuchi/model/start_warnings.hpp"
 #include "tsuchi/run/factor_of_safety.hpp"
+#include "tsuchi/run/first_step.hpp"
 #include "tsuchi/run/recorder.hpp"
 #include "tsuchi/run/simulation.hpp"
 #include "tsuchi/solver/time_step.hpp"
@@ -100,6 +101,7 @@ void print_length(const Config& c, double dt, const std::string& output_dir);
 template <int D>
 void warn_at_start(const Config& c, const Model<D>& m) {
   for (const auto& w : start_warnings<D>(c, m)) say(stderr, "warning: {}\n", tsuchi::app::shown(w));
+  if (const auto w = long_first_step_warning<D>(c, m)) say(stderr, "warning: {}\n", tsuchi::app::shown(*w));
 }
 
 template <int D>

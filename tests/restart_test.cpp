@@ -227,6 +227,65 @@ TEST(Restart, LaterEndFromAFrameTimeContinuesBitwise) {
   EXPECT_NE(first_end, x.at("checkpoint.tsuchi"));
 }
 
+// The frame and row counters of a checkpoint are indices of the next frame and global.csv row.
+// A crafted one (2^62) was taken as it was and the restart wrote no frame and no row more (issue 41,
+// defect 13); now a counter beyond one interval past the checkpoint's time is brought back, so the
+// crafted restart writes what a fair one writes, byte for byte.
+TEST(Restart, CraftedCountersAreBroughtBackToTheCheckpointTime) {
+  TempDir tmp("tsuchi_restart");
+  write_file(tmp.path / "column.toml", elastic_input);
+  const auto run = [&](const fs::path& out, const std::string& extra) {
+    const ProgramResult r = run_program("run -q " + quoted(tmp.path / "column.toml") + " -o " + quoted(out) +
+                                        " --set output.interval=0.05 --set output.global_interval=0.01" +
+                                        " --set checkpoint.every_steps=1000000 " + extra);
+    EXPECT_EQ(r.status, exit_code::ok) << r.output;
+  };
+  const fs::path fair = tmp.path / "fair", crafted = tmp.path / "crafted";
+  run(fair, "--set time.end=0.1");
+  run(crafted, "--set time.end=0.1");
+  {
+    const std::string ck = (crafted / "checkpoint.tsuchi").string();
+    Model<2> m = build_model<2>(read_config_file((tmp.path / "column.toml").string()));
+    RunProgress r = read_checkpoint<2>(ck, m);
+    r.frame_index = std::int64_t{1} << 62, r.row_index = std::int64_t{1} << 62;
+    write_checkpoint<2>(ck, m, r);
+  }
+  run(fair, "--set time.end=0.3 --restart " + quoted(fair / "checkpoint.tsuchi"));
+  run(crafted, "--set time.end=0.3 --restart " + quoted(crafted / "checkpoint.tsuchi"));
+  const auto x = snapshot(fair), y = snapshot(crafted);
+  ASSERT_EQ(x.size(), y.size());
+  ASSERT_TRUE(x.count("particles_000006.vtu"));  // frames at 0, 0.05, ..., 0.3
+  for (const auto& [name, bytes] : x) {
+    ASSERT_TRUE(y.count(name)) << name << " is missing after the crafted restart";
+    EXPECT_TRUE(y.at(name) == bytes) << name << " differs after the crafted restart";
+  }
+}
+
+// A restart with a longer output.interval counted the stored frame index in the new interval: from
+// an end at 0.1 s with frames every 0.01 s (next index 11), a restart to 0.3 s every 0.05 s took
+// its next frame at 11 x 0.05 = 0.55 s, beyond the end, and wrote only the last. Now it writes
+// those of the new interval after the checkpoint: 0.15, 0.2, 0.25 and 0.3 s.
+TEST(Restart, LongerIntervalTakesTheFramesOfTheNewOne) {
+  TempDir tmp("tsuchi_restart");
+  write_file(tmp.path / "column.toml", elastic_input);
+  const fs::path out = tmp.path / "out";
+  const auto run = [&](const std::string& extra) {
+    const ProgramResult r = run_program("run -q " + quoted(tmp.path / "column.toml") + " -o " + quoted(out) +
+                                        " --set checkpoint.every_steps=1000000 " + extra);
+    EXPECT_EQ(r.status, exit_code::ok) << r.output;
+  };
+  run("--set time.end=0.1 --set output.interval=0.01");
+  run("--set time.end=0.3 --set output.interval=0.05 --restart " + quoted(out / "checkpoint.tsuchi"));
+  const std::string pvd = read_bytes(out / "particles.pvd");
+  std::vector<double> times;
+  const std::regex stamp("timestep=\"([^\"]+)\"");
+  for (auto it = std::sregex_iterator(pvd.begin(), pvd.end(), stamp); it != std::sregex_iterator(); ++it)
+    times.push_back(std::stod((*it)[1].str()));
+  ASSERT_EQ(times.size(), 15u) << pvd;  // 0 ... 0.1 every 0.01, then 0.15, 0.2, 0.25, 0.3
+  for (std::size_t k = 0; k < 11; ++k) EXPECT_NEAR(times[k], 0.01 * static_cast<double>(k), 1e-9);
+  for (std::size_t k = 11; k < 15; ++k) EXPECT_NEAR(times[k], 0.05 * static_cast<double>(k - 8), 1e-9) << k;
+}
+
 class RefusedRestart : public ::testing::Test {
  protected:
   void SetUp() override {

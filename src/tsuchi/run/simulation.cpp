@@ -303,6 +303,24 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
     while (frame_time(frame_index) <= now + 1e-6 * step && frame_time(frame_index) < end) ++frame_index;
     return frame_time(frame_index);
   };
+  // A restart's counters are the indices of the next frame and global.csv row. The run that wrote
+  // the checkpoint left each at most one past the last time k * interval reached, a time within
+  // 1e-6 of a step counting as reached (frame_after, the row rule of the step loop). A larger one (a
+  // crafted checkpoint: 2^62 wrote no more frames; a restart with a longer interval, the stored
+  // index counting in the old one) is brought back to that bound, and frame_after and the step loop
+  // advance it from there; a counter within it is kept, so a fair restart goes on bit for bit.
+  if (options.restart) {
+    auto bound = [&](double interval, std::int64_t& index) {
+      if (!(interval > 0.0)) return;
+      const double now = solver->time(), tol = 1e-6 * std::max(interval, start.dt);
+      const double k = std::floor((now + tol) / interval) + 1.0;
+      if (k < static_cast<double>(index)) index = static_cast<std::int64_t>(k);
+    };
+    bound(oc.interval, frame_index);
+    bound(oc.global_interval, row_index);
+    // The label counter follows a recorder's value, which need not grow (the run warns when it does
+    // not), so no bound on it is sure to keep a fair restart as it was: left as read.
+  }
   double last_frame = start.last_frame, last_row = start.last_row;
   auto last_flush = clock::now();
   auto last_checkpoint = clock::now();

@@ -5,13 +5,17 @@
 // time step, 128 + signal when interrupted (the state is saved first).
 #include "element_command.hpp"
 #include "console.hpp"
+#include "cpus.hpp"
+#include "disk_space.hpp"
 #include "progress.hpp"
 
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/interrupt.hpp"
+#include "tsuchi/core/memory_limit.hpp"
 #include "tsuchi/core/version.hpp"
 #include "tsuchi/io/element_reader.hpp"
 #include "tsuchi/io/output_writer.hpp"
+#include "tsuchi/io/vtu_writer.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/model/stage_change.hpp"
@@ -33,6 +37,7 @@
 #include <cstdlib>
 #include <csignal>
 #include <cstdio>
+#include <limits>
 #include <string_view>
 
 using tsuchi::app::say;
@@ -95,7 +100,7 @@ void print_fos(const Config& c) {
              f.displacement_limit ? fmt::format("beyond {:g} m of displacement or ", *f.displacement_limit) : std::string{},
              f.max_steps);
 }
-void print_length(const Config& c, double dt, const std::string& output_dir);
+void print_length(const Config& c, double dt, const std::string& output_dir, double frame_bytes);
 
 // The model's own warnings (model/start_warnings.hpp), after the input's.
 template <int D>
@@ -156,7 +161,7 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
                c.output.interval > 0 ? fmt::format(" and every {} s", c.output.interval) : std::string{});
   } else {
     if (c.fos.given) print_fos(c);
-    print_length(c, dt, output_dir);
+    print_length(c, dt, output_dir, c.output.write_frames ? vtu_size<D>(m, c.output.fields) : 0.0);
   }
   say("memory     about {:.1f} MB\n", static_cast<double>(m.bytes()) / 1e6);
   say("threads    {}\n", omp_get_max_threads());
@@ -200,7 +205,7 @@ void print_stages(const Config& c) {
   }
 }
 
-void print_length(const Config& c, double dt, const std::string& output_dir) {
+void print_length(const Config& c, double dt, const std::string& output_dir, double frame_bytes) {
   // To the time a recorder will stop the run when that can be foreseen, else to time.end.
   const auto stop = forecast_stop(c);
   Config to_stop = c;
@@ -217,9 +222,20 @@ void print_length(const Config& c, double dt, const std::string& output_dir) {
     if (r.stop_above) say("stop       when {} >= {:g}{}\n", r.name, *r.stop_above, note);
     if (r.stop_below) say("stop       when {} <= {:g}{}\n", r.name, *r.stop_below, note);
   }
-  say("output     {} ({:.0f} frames{})\n", output_dir, length.frames,
-             c.output.global_interval > 0 ? fmt::format(", global.csv every {} s", c.output.global_interval)
-                                          : ", global.csv every step");
+  // The frames' size against the space free where they go: a model of 4e6 particles with 99,801
+  // frames (~100 TB) passed `check` (issue 41, defect 10). Said, not refused: a recorder may stop
+  // the run early, and space may be freed meanwhile. global.csv, a few hundred bytes a row, is left out.
+  const double bytes = length.frames * frame_bytes;
+  say("output     {} ({:.0f} frames{}{})\n", output_dir, length.frames,
+      frame_bytes > 0.0 ? fmt::format(" of about {}, {} in all", app::byte_size(frame_bytes), app::byte_size(bytes))
+                        : std::string{},
+      c.output.global_interval > 0 ? fmt::format(", global.csv every {} s", c.output.global_interval)
+                                   : ", global.csv every step");
+  if (const double free = app::free_space(output_dir); free >= 0.0 && bytes > free)
+    say(stderr,
+        "warning: the frames would take about {}, more than the {} free on the file system of {}; choose a larger "
+        "output.interval or fewer output.fields\n",
+        app::byte_size(bytes), app::byte_size(free), output_dir);
 }
 
 template <int D>
@@ -260,9 +276,11 @@ int run(const Config& c, const Options& o) {
   }
   app::ProgressReporter reporter(stderr);
   Progress last;
+  app::BusyMachineMonitor busy(omp_get_max_threads());
   ro.on_progress = [&](const Progress& p) {
     last = p;
     if (!o.quiet) reporter.update(p);
+    if (const auto w = busy.sample()) reporter.note("warning: " + *w);
   };
   ro.on_warning = [&](const std::string& w) { reporter.note("warning: " + app::shown(w)); };
   ro.on_stage_end = [&](const StageReport& r) {
@@ -300,10 +318,12 @@ int fos(const Config& c, const Options& o) {
   fo.output_directory = o.output.empty() ? c.output.directory : o.output;
   fo.quiet = o.quiet;
   fo.on_note = [&](const std::string& note) { say("{}\n", note); };
+  app::BusyMachineMonitor busy(omp_get_max_threads());
   fo.on_trial = [&](const FosTrial& t) {
     say("trial {:>3}  F = {:<10.6g} {:<6} ({}) after {} steps, largest displacement {:.4g} m, ratio {:.3g}, {:.1f} s\n",
                t.index, t.factor, t.failed ? "fails" : "stands", t.reason, t.steps, t.max_displacement,
                t.unbalanced_force_ratio, t.wall_seconds);
+    if (const auto w = busy.sample()) say(stderr, "warning: {}\n", *w);
   };
   Model<D> m = build_model<D>(c);
   make_recorders<D>(c, m);  // input errors before the summary, as for `run`
@@ -317,24 +337,44 @@ int fos(const Config& c, const Options& o) {
   return exit_code::ok;
 }
 
-// The most threads a run takes: the bound of --threads, also applied to OMP_NUM_THREADS (libgomp
-// crashes when asked for 100,000).
+// The most threads --threads takes (a larger number is a usage error); any request is then held to
+// the CPUs the process may use (cpus.hpp).
 constexpr int max_threads = 1024;
 
-void clamp_environment_threads() {
-  const char* env = std::getenv("OMP_NUM_THREADS");
-  if (!env) return;
-  // A list ("8,4") gives the threads per nesting level; only the first level is used here.
-  char* end = nullptr;
-  errno = 0;
-  const long n = std::strtol(env, &end, 10);
-  if (end == env || (n <= max_threads && errno != ERANGE)) return;
-  say(stderr, "warning: OMP_NUM_THREADS={} is more than {} threads; using {}\n", env, max_threads, max_threads);
-  omp_set_num_threads(max_threads);
+// The thread count: --threads, else OMP_NUM_THREADS (its first level: "8,4" gives 8), else every
+// usable CPU; at most the usable CPUs, with a warning when a request asked for more (OMP_NUM_THREADS
+// = 100000 crashed libgomp; 1024 on 2 cores failed to create its threads under a memory limit, or
+// ran 1000x slower). Set before the first parallel region, so libgomp never starts more.
+void choose_threads(int requested_option) {
+  const app::UsableCpus cpus = app::usable_cpus();
+  long requested = requested_option;
+  std::string source = fmt::format("--threads {}", requested_option);
+  if (requested <= 0) {
+    if (const char* env = std::getenv("OMP_NUM_THREADS")) {
+      char* end = nullptr;
+      errno = 0;
+      requested = std::strtol(env, &end, 10);
+      if (end == env || requested <= 0) requested = 0;  // libgomp's own reading then stands
+      if (errno == ERANGE) requested = std::numeric_limits<long>::max();
+      source = fmt::format("OMP_NUM_THREADS={}", app::shown(env));
+    }
+  }
+  if (requested <= 0) {
+    if (omp_get_max_threads() > cpus.count) omp_set_num_threads(cpus.count);
+    return;
+  }
+  if (requested > cpus.count) {
+    say(stderr,
+        "warning: {} asks for more threads than the {} {}; using {}: more threads than CPUs only wait on each "
+        "other (results do not depend on the count)\n",
+        source, cpus.count, cpus.what, cpus.count);
+    requested = cpus.count;
+  }
+  omp_set_num_threads(static_cast<int>(requested));
 }
 
 int dispatch(bool run_it, const Options& o, bool fos_it = false) {
-  if (o.threads > 0) omp_set_num_threads(o.threads);
+  choose_threads(o.threads);
   const Config c = read_config_file(o.file, o.overrides);
   for (const auto& w : c.warnings) say(stderr, "warning: {}\n", tsuchi::app::shown(w));
   // A busy output directory stops a run before it builds its model (which may take long).
@@ -418,7 +458,6 @@ int main(int argc, char** argv) {
   }
   // Line by line: piped into one log, the summary (stdout) comes before the progress (stderr).
   std::setvbuf(stdout, nullptr, _IOLBF, 0);
-  clamp_environment_threads();
   // A full disk or a file-size limit should be an error message, not a silent kill.
   std::signal(SIGXFSZ, SIG_IGN);
   // A closed pipe (`tsuchi run ... | head -1`) must not kill a run: its writes to the terminal
@@ -440,6 +479,15 @@ int main(int argc, char** argv) {
   } catch (const OutputError& e) {
     say(stderr, "\noutput failed: {}\n", tsuchi::app::shown(e.what()));
     return exit_code::output;
+  } catch (const std::bad_alloc&) {
+    // The model's estimate passed the pre-check (model.cpp, check_memory) but the allocation did
+    // not: other processes took memory since, or the estimate missed a part (recorders, contact).
+    const tsuchi::MemoryLimit limit = tsuchi::memory_limit();
+    say(stderr,
+        "\nout of memory: an allocation failed{}; the summary's `memory` line is the model's estimate: choose a "
+        "larger grid.cell_size or fewer particles_per_cell, or raise the limit\n",
+        limit.bytes > 0.0 ? fmt::format(" with {:.3g} GB {}", limit.bytes / 1e9, limit.what) : std::string{});
+    return exit_code::internal;
   } catch (const std::exception& e) {
     say(stderr, "\ninternal error: {}\n", tsuchi::app::shown(e.what()));
     return exit_code::internal;

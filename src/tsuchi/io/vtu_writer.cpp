@@ -90,7 +90,36 @@ std::string body_names(const std::vector<std::string>& names) {
       names.size(), codes);
 }
 
+// A frame stores vectors with 3 components and symmetric tensors with 6, in 2D too.
+int frame_components(const ParticleField& f) { return f.kind == FieldKind::Vector ? 3 : f.kind == FieldKind::Tensor ? 6 : 1; }
+
+std::size_t type_size(FieldType t) {
+  switch (t) {
+    case FieldType::Float64: case FieldType::Int64: return 8;
+    case FieldType::Int32: return 4;
+    case FieldType::UInt8: return 1;
+  }
+  return 8;
+}
+
 }  // namespace
+
+template <int D>
+double vtu_size(const Model<D>& model, const std::vector<std::string>& fields) {
+  double per_point = 3 * 8 + 8 + 8 + 1;  // the point, its connectivity, offset and cell type
+  for (const auto& name : fields) {
+    const ParticleField* f = find_particle_field(name);
+    if (!f || !f->frame) continue;
+    per_point += f->quantity == Quantity::Id ? 8 : frame_components(*f) * static_cast<double>(type_size(f->type));
+  }
+  // The XML around the arrays is that of a frame without particles, but for the digits of the
+  // arrays' offsets and of the point count (at most 20 each).
+  Model<D> none;
+  none.body_names = model.body_names;
+  const double header = static_cast<double>(vtu_document<D>(none, fields).size());
+  const auto arrays = static_cast<double>(fields.size() + 5);
+  return header + 20.0 * (arrays + 2.0) + static_cast<double>(model.particles.size()) * per_point;
+}
 
 template <int D>
 std::string vtu_document(const Model<D>& model, const std::vector<std::string>& fields) {
@@ -112,7 +141,7 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
   for (const auto& name : fields) {
     const ParticleField* f = find_particle_field(name);
     if (!f || !f->frame) continue;  // the input reader accepts frame fields only
-    const int components = f->kind == FieldKind::Vector ? 3 : f->kind == FieldKind::Tensor ? 6 : 1;
+    const int components = frame_components(*f);
     if (f->quantity == Quantity::Id) {  // as stored: no round trip through a double
       std::vector<std::int64_t> ids(n);
       for (std::size_t k = 0; k < n; ++k) ids[k] = p.id_p[order[k]];
@@ -186,5 +215,7 @@ std::string pvd_document(const std::vector<std::pair<double, std::string>>& fram
 
 template std::string vtu_document<2>(const Model<2>&, const std::vector<std::string>&);
 template std::string vtu_document<3>(const Model<3>&, const std::vector<std::string>&);
+template double vtu_size<2>(const Model<2>&, const std::vector<std::string>&);
+template double vtu_size<3>(const Model<3>&, const std::vector<std::string>&);
 
 }  // namespace tsuchi

@@ -15,6 +15,11 @@ namespace tsuchi {
 template <int D>
 std::string vtu_document(const Model<D>& model, const std::vector<std::string>& fields);
 
+// The size of the .vtu file of `model` for the given fields, from the particle count without
+// building the document (to within the digits of its offsets): the output size said before a run.
+template <int D>
+double vtu_size(const Model<D>& model, const std::vector<std::string>& fields);
+
 // The grid nodes where contact acted (ExplicitSolver::contact_nodes()), as vertices with the
 // normal, the contact force and the kind (1: between bodies, 2: a wall, 3: both), for ParaView.
 struct ContactPoints {
@@ -28,5 +33,7 @@ std::string pvd_document(const std::vector<std::pair<double, std::string>>& fram
 
 extern template std::string vtu_document<2>(const Model<2>&, const std::vector<std::string>&);
 extern template std::string vtu_document<3>(const Model<3>&, const std::vector<std::string>&);
+extern template double vtu_size<2>(const Model<2>&, const std::vector<std::string>&);
+extern template double vtu_size<3>(const Model<3>&, const std::vector<std::string>&);
 
 }  // namespace tsuchi

@@ -1,5 +1,7 @@
 #include "tsuchi/model/model.hpp"
 
+#include "tsuchi/core/memory_limit.hpp"
+
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/expression.hpp"
 #include "tsuchi/model/imperfection.hpp"
@@ -185,26 +187,6 @@ bool claims(const BodyConfig& b, const Lattice<D>& l, const Vec<D>& x) {
   return b.shape->contains(point<D>(x));
 }
 
-// Bytes free for this run: MemAvailable, or the cgroup's limit when lower; 0 when unknown.
-double available_memory() {
-  double avail = 0.0;
-  if (std::FILE* f = std::fopen("/proc/meminfo", "r")) {
-    char line[256];
-    while (std::fgets(line, sizeof line, f))
-      if (std::sscanf(line, "MemAvailable: %lf kB", &avail) == 1) {
-        avail *= 1024.0;
-        break;
-      }
-    std::fclose(f);
-  }
-  if (std::FILE* f = std::fopen("/sys/fs/cgroup/memory.max", "r")) {
-    double limit = 0.0;
-    if (std::fscanf(f, "%lf", &limit) == 1 && limit > 0.0 && (avail == 0.0 || limit < avail)) avail = limit;
-    std::fclose(f);
-  }
-  return avail;
-}
-
 // Refuses, before anything is allocated, a model whose memory estimate exceeds what the machine
 // has free: a bad_alloc hours into a set-up, or the OOM killer, says nothing about the cause. The
 // particles are counted on the lattice over each shape's bounds: an upper bound.
@@ -225,12 +207,12 @@ void check_memory(const Config& c, const Grid<D>& g, const Particles<D>& layout)
     const double per_field = static_cast<double>(NodalField<D>::bytes_per_slot(g.keep_acceleration) + sizeof(Vec<D>) + 2 * sizeof(double) + 1);
     bytes += 1.25 * static_cast<double>(in_pairs.size() + 1) * per_field * static_cast<double>(g.size());
   }
-  const double avail = available_memory();
-  if (avail > 0.0 && bytes > avail)
+  const MemoryLimit limit = memory_limit();
+  if (limit.bytes > 0.0 && bytes > limit.bytes)
     throw InputError(fmt::format(
-        "{}: the model needs about {:.3g} GB ({:.4g} particles, {:.4g} grid nodes), more than the {:.3g} GB of "
-        "memory available; choose a larger grid.cell_size or fewer bodies.N.particles_per_cell",
-        c.source, bytes / 1e9, particles, static_cast<double>(g.node_count()), avail / 1e9));
+        "{}: the model needs about {:.3g} GB ({:.4g} particles, {:.4g} grid nodes), more than the {:.3g} GB {}; "
+        "choose a larger grid.cell_size or fewer bodies.N.particles_per_cell, or raise the limit",
+        c.source, bytes / 1e9, particles, static_cast<double>(g.node_count()), limit.bytes / 1e9, limit.what));
 }
 
 // Where a body's particles go, before any is stored: the lattice points inside its shape less

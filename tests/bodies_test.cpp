@@ -11,6 +11,7 @@
 
 #include "test_support.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -367,6 +368,25 @@ TEST(Bodies, ParticlesFromAFrame) {
     ADD_FAILURE() << "a frame without volume was accepted";
   } catch (const InputError& e) {
     expect_message(e.what(), {"frame.vtu", "no \"volume\" field", "output.fields"});
+  }
+  // A NumberOfPoints of n + 2^61: every array's n x components x 8 bytes wraps around 2^64 to the
+  // count the file holds, and the reader went on to bad_alloc (issue 41, defect 11). Now refused,
+  // naming the count, before any product is formed.
+  {
+    std::string doc = vtu_document<2>(first, {"volume", "stress"});
+    const std::string count = fmt::format("NumberOfPoints=\"{}\"", first.particles.size());
+    ASSERT_NE(doc.find(count), std::string::npos);
+    doc.replace(doc.find(count), count.size(),
+                fmt::format("NumberOfPoints=\"{}\"", first.particles.size() + (std::uint64_t{1} << 61)));
+    std::ofstream out(dir / "frame.vtu", std::ios::binary);
+    out << doc;
+  }
+  try {
+    read_config_file((dir / "in.toml").string());
+    ADD_FAILURE() << "a frame whose point count wraps around was accepted";
+  } catch (const InputError& e) {
+    expect_message(e.what(), {"frame.vtu", fmt::format("NumberOfPoints=\"{}\" is not a count of points the file's",
+                                                       first.particles.size() + (std::uint64_t{1} << 61))});
   }
   fs::remove_all(dir);
 }

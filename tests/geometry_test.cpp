@@ -4,6 +4,7 @@
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/geometry/boolean.hpp"
 #include "tsuchi/geometry/intervals.hpp"
+#include "tsuchi/geometry/polygon.hpp"
 #include "tsuchi/geometry/triangle_mesh.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/io/shape_reader.hpp"
@@ -421,7 +422,7 @@ TEST(Geometry, StlLineThroughEdgesAndVerticesCountsOnce) {
 
 // --- speed ---------------------------------------------------------------------------------
 
-TEST(Geometry, StlChordsAreFastForManyTriangles) {
+TEST(Geometry, StlChordsOfManyTrianglesMeasureTheBall) {
   // 20480 triangles, 1e5 chords along each axis and 1e5 contains(): what filling a body and its
   // overburden asks of a surface. Binned, each query visits a few triangles, not all of them.
   const auto tris = icosphere(Point(0.0, 0.0, 0.0), 1.0, 5);
@@ -444,7 +445,8 @@ TEST(Geometry, StlChordsAreFastForManyTriangles) {
   // The fraction of a cube [-1, 1]^3 inside the unit ball, pi / 6, to sampling error.
   EXPECT_NEAR(static_cast<double>(inside) / 1e5, std::numbers::pi / 6.0, 0.01);
   EXPECT_GT(crossings, 100000);
-  EXPECT_LT(build + query, 5.0);  // about 0.4 s when measured; a scan of all triangles would take minutes
+  // Its speed (about 0.4 s when measured; a scan of all triangles would take minutes) is printed,
+  // not asserted: performance is measured by tsuchi-bench, not by a timed test.
 }
 
 // --- intervals -------------------------------------------------------------------------------
@@ -483,19 +485,75 @@ TEST(Geometry, SelfIntersectingPolygonIsRefused) {
                  {"zero-length edge: vertex 2 repeats vertex 1"});
 }
 
-TEST(Geometry, LargePolygonIsCheckedAndMeasuredQuickly) {
-  // A regular polygon of 20000 vertices: the crossing check sweeps rather than trying all pairs.
+// A polygon at the allowed 100,000 vertices (a regular one, with a hole of 1,000 and a comb of
+// long teeth): its edges are found through bands of the line coordinate (polygon.hpp), and every
+// chord along either axis is the one the crossing rule gives over all the edges, bit for bit.
+// Scanning all edges per query made `check` run for minutes (issue 41, defect 11); the cost is
+// measured by tsuchi-bench, not here.
+std::vector<double> all_edge_crossings(const std::vector<std::vector<Point2>>& rings, const Point2& p, int axis) {
+  const int b = 1 - axis;
+  std::vector<double> xs;
+  for (const auto& r : rings)
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      const Point2& s = r[i];
+      const Point2& t = r[(i + 1) % r.size()];
+      if ((s[b] > p[b]) == (t[b] > p[b])) continue;
+      const Point2& lo = s[b] < t[b] ? s : t;
+      const Point2& hi = s[b] < t[b] ? t : s;
+      xs.push_back(lo[axis] + (p[b] - lo[b]) / (hi[b] - lo[b]) * (hi[axis] - lo[axis]));
+    }
+  std::sort(xs.begin(), xs.end());
+  return xs;
+}
+
+TEST(Geometry, LargePolygonChordsAreThoseOfAllItsEdges) {
+  auto circle = [](int n, double radius, double cx) {
+    std::vector<Point2> r;
+    for (int k = 0; k < n; ++k) {
+      const double t = 2.0 * std::numbers::pi * k / n;
+      r.emplace_back(cx + radius * std::cos(t), radius * std::sin(t));
+    }
+    return r;
+  };
+  // A comb: 50 teeth 3 m long from a 0.2 m spine, each edge spanning many bands of y.
+  std::vector<Point2> comb{{-1.0, -1.5}, {1.0, -1.5}};
+  for (int k = 49; k >= 0; --k) {
+    const double x0 = -1.0 + 0.04 * k;
+    comb.emplace_back(x0 + 0.03, 1.5), comb.emplace_back(x0 + 0.02, -1.3), comb.emplace_back(x0 + 0.01, -1.3);
+    comb.emplace_back(x0, 1.5);
+  }
+  comb.back() = Point2(-1.0, 1.5);
+  const std::vector<std::vector<std::vector<Point2>>> cases{
+      {circle(PolygonRegion::max_vertices - 1000, 2.0, 0.0), circle(1000, 0.5, 0.7)}, {comb}};
+  std::mt19937_64 rng(41);
+  std::uniform_real_distribution<double> u(-2.2, 2.2);
+  for (const auto& rings : cases) {
+    const std::vector<Ring> holes(rings.begin() + 1, rings.end());
+    ASSERT_FALSE(PolygonRegion::problem(rings[0], holes)) << *PolygonRegion::problem(rings[0], holes);
+    const PolygonRegion region(rings[0], holes);
+    for (int q = 0; q < 2000; ++q) {
+      const Point2 p(u(rng), u(rng));
+      for (int axis = 0; axis < 2; ++axis) {
+        const std::vector<double> xs = all_edge_crossings(rings, p, axis);
+        Intervals want;
+        for (std::size_t i = 0; i + 1 < xs.size(); i += 2) want.push_back({xs[i], xs[i + 1]});
+        const Intervals got = region.chord(p, axis);
+        want = normalized(std::move(want));
+        ASSERT_EQ(got.size(), want.size()) << "at (" << p[0] << ", " << p[1] << ") along " << axis;
+        for (std::size_t i = 0; i < got.size(); ++i)
+          ASSERT_TRUE(got[i].lo == want[i].lo && got[i].hi == want[i].hi) << "at (" << p[0] << ", " << p[1] << ")";
+      }
+    }
+  }
+  // The regular polygon's area and a point inside and outside it, through the input reader.
   constexpr int n = 20000;
   std::string v;
   for (int k = 0; k < n; ++k) {
     const double t = 2.0 * std::numbers::pi * k / n;
     v += fmt::format("{}[{:.17g}, {:.17g}]", k ? ", " : "", 2.0 * std::cos(t), 2.0 * std::sin(t));
   }
-  const auto t0 = std::chrono::steady_clock::now();
   const ShapePtr p = shape_from("[body]\nshape = 'polygon'\nvertices = [" + v + "]\n", 2);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_NEAR(p->measure(), 0.5 * n * 4.0 * std::sin(2.0 * std::numbers::pi / n), 1e-9);
-  EXPECT_LT(seconds, 2.0);
   EXPECT_TRUE(p->contains(Point(1.99, 0.0, 0.0)));
   EXPECT_FALSE(p->contains(Point(1.4143, 1.4143, 0.0)));
 }

@@ -50,20 +50,20 @@ std::string edge_text(const Ring& r, std::size_t i) {
 
 std::string ring_name(std::size_t k) { return k == 0 ? "the outline" : fmt::format("hole {}", k - 1); }
 
-// The crossings of the line {coordinate 1-axis = p[1-axis]} with the ring's edges, by the
-// half-open rule of polygon.hpp, as values of coordinate `axis`.
-void crossings(const Ring& r, const Point2& p, int axis, std::vector<double>& out) {
+// The crossing of the line {coordinate b = c} with the edge (s, t), by the half-open rule of
+// polygon.hpp, as a value of coordinate `axis` = 1 - b; nothing when it does not cross.
+void crossing(const Point2& s, const Point2& t, double c, int axis, std::vector<double>& out) {
   const int b = 1 - axis;
-  const double c = p[b];
-  for (std::size_t i = 0, n = r.size(); i < n; ++i) {
-    const Point2& s = r[i];
-    const Point2& t = r[(i + 1) % n];
-    if ((s[b] > c) == (t[b] > c)) continue;
-    // Interpolate from the lower end so that the two polygons sharing an edge get the same bits.
-    const Point2& lo = s[b] < t[b] ? s : t;
-    const Point2& hi = s[b] < t[b] ? t : s;
-    out.push_back(lo[axis] + (c - lo[b]) / (hi[b] - lo[b]) * (hi[axis] - lo[axis]));
-  }
+  if ((s[b] > c) == (t[b] > c)) return;
+  // Interpolate from the lower end so that the two polygons sharing an edge get the same bits.
+  const Point2& lo = s[b] < t[b] ? s : t;
+  const Point2& hi = s[b] < t[b] ? t : s;
+  out.push_back(lo[axis] + (c - lo[b]) / (hi[b] - lo[b]) * (hi[axis] - lo[axis]));
+}
+
+// The crossings of the line {coordinate 1-axis = p[1-axis]} with all the ring's edges.
+void crossings(const Ring& r, const Point2& p, int axis, std::vector<double>& out) {
+  for (std::size_t i = 0, n = r.size(); i < n; ++i) crossing(r[i], r[(i + 1) % n], p[1 - axis], axis, out);
 }
 
 bool ring_contains(const Ring& r, const Point2& p) {
@@ -153,13 +153,75 @@ PolygonRegion::PolygonRegion(Ring outline, std::vector<Ring> holes) {
   for (const Point2& p : outline) min_ = min_.cwiseMin(p), max_ = max_.cwiseMax(p);
   rings_.push_back(std::move(outline));
   for (Ring& h : holes) rings_.push_back(std::move(h));
+  index_edges();
+}
+
+std::size_t PolygonRegion::Bands::band(double v) const {
+  const double k = std::floor((v - lo) * inv_width);
+  const auto last = static_cast<double>(start.size() - 2);
+  return static_cast<std::size_t>(std::clamp(k, 0.0, last));  // NaN-free: v and lo are finite
+}
+
+void PolygonRegion::index_edges() {
+  ring_start_.assign(1, 0);
+  for (const Ring& r : rings_) ring_start_.push_back(ring_start_.back() + static_cast<std::uint32_t>(r.size()));
+  const std::size_t n = ring_start_.back();
+  auto ends = [&](std::size_t ring, std::size_t i, int b) {
+    const Ring& r = rings_[ring];
+    return std::minmax(r[i][b], r[(i + 1) % r.size()][b]);
+  };
+  for (int b = 0; b < 2; ++b) {
+    Bands& bands = bands_[b];
+    const double lo = min_[b], span = max_[b] - min_[b];
+    // About four edges a band for a round outline; fewer bands while edges spanning many of them
+    // (a comb of long teeth) would list more than 16 entries an edge.
+    std::size_t count = std::clamp<std::size_t>(n / 4, 1, 4096);
+    for (;;) {
+      bands.lo = lo, bands.inv_width = span > 0.0 ? static_cast<double>(count) / span : 0.0;
+      bands.start.assign(count + 1, 0);
+      std::size_t entries = 0;
+      for (std::size_t k = 0; k < rings_.size(); ++k)
+        for (std::size_t i = 0; i < rings_[k].size(); ++i) {
+          const auto [a, z] = ends(k, i, b);
+          entries += bands.band(z) - bands.band(a) + 1;
+        }
+      if (entries <= 16 * n || count == 1) break;
+      count /= 2;
+    }
+    // Two passes: the count of each band, then the edges in place.
+    for (std::size_t k = 0; k < rings_.size(); ++k)
+      for (std::size_t i = 0; i < rings_[k].size(); ++i) {
+        const auto [a, z] = ends(k, i, b);
+        for (std::size_t j = bands.band(a); j <= bands.band(z); ++j) ++bands.start[j + 1];
+      }
+    for (std::size_t j = 0; j < count; ++j) bands.start[j + 1] += bands.start[j];
+    bands.edges.assign(bands.start.back(), 0);
+    std::vector<std::uint32_t> fill(bands.start.begin(), bands.start.end() - 1);
+    for (std::size_t k = 0; k < rings_.size(); ++k)
+      for (std::size_t i = 0; i < rings_[k].size(); ++i) {
+        const auto [a, z] = ends(k, i, b);
+        for (std::size_t j = bands.band(a); j <= bands.band(z); ++j)
+          bands.edges[fill[j]++] = ring_start_[k] + static_cast<std::uint32_t>(i);
+      }
+  }
 }
 
 bool PolygonRegion::contains(const Point2& p) const { return covers(chord(p, 0), p[0]); }
 
 Intervals PolygonRegion::chord(const Point2& p, int axis) const {
   std::vector<double> xs;
-  for (const Ring& r : rings_) crossings(r, p, axis, xs);
+  const int b = 1 - axis;
+  const Bands& bands = bands_[b];
+  if (bands.start.empty()) return {};  // a default-constructed region: empty
+  const std::size_t j = bands.band(p[b]);
+  for (std::uint32_t k = bands.start[j]; k < bands.start[j + 1]; ++k) {
+    const std::uint32_t e = bands.edges[k];
+    const std::size_t ring = static_cast<std::size_t>(
+        std::upper_bound(ring_start_.begin(), ring_start_.end(), e) - ring_start_.begin() - 1);
+    const Ring& r = rings_[ring];
+    const std::size_t i = e - ring_start_[ring];
+    crossing(r[i], r[(i + 1) % r.size()], p[b], axis, xs);
+  }
   std::sort(xs.begin(), xs.end());
   Intervals v;
   for (std::size_t i = 0; i + 1 < xs.size(); i += 2) v.push_back({xs[i], xs[i + 1]});

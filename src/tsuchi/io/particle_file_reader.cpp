@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -174,7 +175,16 @@ std::shared_ptr<const ParticleTable> read_vtu(const ParticleFileRequest& r, cons
   const std::string_view head(text.data(), appended);
   const std::size_t npos = head.find("NumberOfPoints=\"");
   if (npos == std::string::npos) refuse("no NumberOfPoints");
-  const std::size_t n = std::strtoull(text.c_str() + npos + 16, nullptr, 10);
+  // Counts and offsets are checked against the file's size before any product is formed: a
+  // NumberOfPoints chosen so that n x components x width wraps around 2^64 to the array's byte count
+  // passed the size check and ended in bad_alloc (issue 41, defect 11).
+  char* n_end = nullptr;
+  const char* n_text = text.c_str() + npos + 16;
+  const std::size_t n = std::isdigit(static_cast<unsigned char>(*n_text)) ? std::strtoull(n_text, &n_end, 10) : 0;
+  if (!n_end || *n_end != '"' || n > text.size() / (3 * 8))
+    refuse(fmt::format("NumberOfPoints=\"{}\" is not a count of points the file's {} bytes can hold",
+                       printable(std::string_view(n_text, std::min<std::size_t>(40, std::strcspn(n_text, "\""))), 40),
+                       text.size()));
 
   struct Array {
     std::string name, type;
@@ -193,13 +203,15 @@ std::shared_ptr<const ParticleTable> read_vtu(const ParticleFileRequest& r, cons
     a.type = attribute(tag, "type");
     a.components = std::atoi(attribute(tag, "NumberOfComponents").c_str());
     const std::size_t offset = std::strtoull(attribute(tag, "offset").c_str(), nullptr, 10);
-    const std::size_t bytes_at = base + 1 + offset;
     std::uint64_t bytes = 0;
-    if (bytes_at + sizeof bytes > text.size()) refuse(fmt::format("array \"{}\" points past the end", a.name));
+    if (offset > text.size() || base + 1 + offset + sizeof bytes > text.size())
+      refuse(fmt::format("array \"{}\" points past the end", a.name));
+    const std::size_t bytes_at = base + 1 + offset;
     std::memcpy(&bytes, text.data() + bytes_at, sizeof bytes);
     const std::size_t width = a.type == "Float64" || a.type == "Int64" ? 8 : a.type == "Int32" ? 4 : 1;
-    if (a.components < 1 || bytes != n * static_cast<std::size_t>(a.components) * width ||
-        bytes_at + sizeof bytes + bytes > text.size())
+    // n <= size / 24 and components <= 64 keep the product far below 2^64.
+    if (a.components < 1 || a.components > 64 || bytes > text.size() - bytes_at - sizeof bytes ||
+        bytes != n * static_cast<std::size_t>(a.components) * width)
       refuse(fmt::format("array \"{}\" has {} bytes, not {} points of {} components", a.name, bytes, n, a.components));
     a.data = text.data() + bytes_at + sizeof bytes;
     arrays.push_back(a);

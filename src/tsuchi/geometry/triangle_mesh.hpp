@@ -26,6 +26,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace tsuchi::geometry {
@@ -57,7 +58,20 @@ class TriangleMesh final : public Shape {
 
   std::size_t triangle_count() const { return tri_.size(); }
 
+  // The volume the even-odd rule fills (what contains() and chord() give) and the volume inside
+  // any of the surfaces (the nonzero winding rule), sampled on the same samples x samples columns.
+  // They differ where closed surfaces overlap or nest with the same orientation: the even-odd
+  // rule then leaves the overlap out, which a user meaning one solid of two shells did not want.
+  struct Fill {
+    double even_odd = 0.0, nonzero = 0.0;
+  };
+  Fill fill_volumes(int samples) const;
+
  private:
+  // The crossings of the line through x along `axis` with the surface, by depth, each with the
+  // side its triangle faces along the axis (+1 or -1).
+  void crossings(const Point& x, int axis, std::vector<std::pair<double, int>>& out) const;
+
   struct Bins {
     int u = 0, v = 0;            // the projection's axes
     Eigen::Vector2d lo, inv_h;   // the grid's corner and 1 / bin size

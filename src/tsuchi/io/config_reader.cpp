@@ -241,7 +241,7 @@ void read_body_shape(Section& s, Config& c, BodyConfig& b, const std::string& di
   const int dim = c.dimension;
   b.shape_kind = shape_kind(s);
   b.shape_key = s.has("shape") ? "shape" : "min";
-  b.shape = read_shape(s, dim, directory, Extent::Bounded, &c.data_files);
+  b.shape = read_shape(s, dim, directory, Extent::Bounded, &c.data_files, &c.warnings);
   if (const toml::node* n = s.get(b.shape_key)) b.shape_where = where(s.file(), n->source());
   const geometry::Bounds bb = b.shape->bounds();
   for (int d = 0; d < dim; ++d) {
@@ -316,7 +316,7 @@ void read_body(Section& s, Config& c, std::size_t index) {
     r.material = rs.string("material", "the name of a material");
     r.material_index = material_index(rs, c, r.material);
     r.kind = shape_kind(rs);
-    r.shape = read_shape(rs, dim, directory, Extent::Bounded, &c.data_files);
+    r.shape = read_shape(rs, dim, directory, Extent::Bounded, &c.data_files, &c.warnings);
     rs.finish();
     b.regions.push_back(r);
   }

@@ -25,6 +25,7 @@ struct Context {
   int dim;
   const std::string& directory;
   std::vector<DataFile>* files;  // the data files read, or nullptr
+  std::vector<std::string>* warnings;  // what is valid but likely not meant, or nullptr
 };
 
 Point point_of(const Triple& t, int dim) {
@@ -144,7 +145,22 @@ geometry::ShapePtr read_stl_shape(Section& s, const Context& c) {
   if (auto why = geometry::TriangleMesh::problem(surface.triangles, name))
     s.fail("file", fmt::format("expected a closed, consistently oriented surface of triangles, got '{}' where {}",
                                printable(path.string(), 200), *why));
-  return std::make_shared<geometry::TriangleMesh>(surface.triangles, precision);
+  auto mesh = std::make_shared<geometry::TriangleMesh>(surface.triangles, precision);
+  // Two closed surfaces that overlap (or nest, facing the same way) are filled by the even-odd
+  // rule, which leaves the overlap out (docs/input.md): valid for a cavity, but not what an author
+  // of one solid from two shells meant, and cheap to tell from the winding number (issue 41,
+  // defect 11). 256 x 256 columns; a difference under 0.1 % of the volume is not said.
+  if (c.warnings) {
+    const auto fill = mesh->fill_volumes(256);
+    if (fill.nonzero - fill.even_odd > 1e-3 * fill.nonzero)
+      c.warnings->push_back(s.located(
+          "file", fmt::format("the closed surfaces of '{}' overlap or nest facing the same way: by the even-odd rule "
+                              "the body fills {:.4g} m^3 of the {:.4g} m^3 inside any of them, leaving the overlap "
+                              "out; for one solid, merge the shells into one surface (a boolean union) or give each "
+                              "its own body; for a cavity, nothing is wrong",
+                              printable(path.string(), 200), fill.even_odd, fill.nonzero)));
+  }
+  return mesh;
 }
 
 // The kinds of shape, by their input name: a new shape is a new file in geometry/ and one line
@@ -199,8 +215,8 @@ geometry::ShapePtr read_any(Section& s, const Context& c, int fallback) {
 }  // namespace
 
 geometry::ShapePtr read_shape(Section& s, int dim, const std::string& directory, Extent extent,
-                              std::vector<DataFile>* files) {
-  const Context c{dim, directory, files};
+                              std::vector<DataFile>* files, std::vector<std::string>* warnings) {
+  const Context c{dim, directory, files, warnings};
   geometry::ShapePtr shape = read_any(s, c, 0);
   if (extent == Extent::Bounded) {
     const geometry::Bounds b = shape->bounds();

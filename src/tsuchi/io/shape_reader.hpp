@@ -18,8 +18,10 @@ namespace tsuchi::io {
 enum class Extent { Bounded, MayBeUnbounded };
 
 // `directory` is the folder of the input file, against which a relative file name (an STL
-// surface) is taken; each file read is added to `files` when given.
+// surface) is taken; each file read is added to `files` when given, and what is valid but likely
+// not meant (overlapping STL shells) to `warnings`.
 geometry::ShapePtr read_shape(Section& s, int dimension, const std::string& directory,
-                              Extent extent = Extent::Bounded, std::vector<DataFile>* files = nullptr);
+                              Extent extent = Extent::Bounded, std::vector<DataFile>* files = nullptr,
+                              std::vector<std::string>* warnings = nullptr);
 
 }  // namespace tsuchi::io

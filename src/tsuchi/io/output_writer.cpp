@@ -1,5 +1,7 @@
 #include "tsuchi/io/output_writer.hpp"
 
+#include "tsuchi/io/paraview_view.hpp"
+
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/io/atomic_file.hpp"
 #include "tsuchi/io/vtu_writer.hpp"
@@ -47,7 +49,7 @@ bool same_path(const fs::path& a, const fs::path& b) {
 bool is_frame_file_name(const std::string& name) { return is_numbered_name(name, "particles_", 6, ".vtu"); }
 
 bool is_output_file_name(const std::string& name) {
-  return name == "particles.pvd" || name == "global.csv" || name == "recorders.csv" || name == "stages.csv" ||
+  return name == "particles.pvd" || name == "particles_view.py" || name == "global.csv" || name == "recorders.csv" || name == "stages.csv" ||
          name == "contact.pvd" || name == DirectoryLock::file_name || is_frame_file_name(name) ||
          is_numbered_name(name, "contact_", 1, ".vtu") || is_numbered_name(name, "particles_stage", 1, ".pvd");
 }
@@ -175,7 +177,7 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output,
       fs::remove(entry.path(), ec);
   }
   const std::string pvd = dir_ + "/particles.pvd";
-  if (h_.frames.empty()) fs::remove(pvd, ec);
+  if (h_.frames.empty()) fs::remove(pvd, ec), fs::remove(dir_ + "/particles_view.py", ec);
   else write_file_atomically(pvd, pvd_document(h_.frames));
 }
 
@@ -190,6 +192,11 @@ void OutputWriter<D>::frame(double label, const ContactPoints* contact) {
   write_file_atomically(dir_ + "/" + name, vtu_document<D>(m_, output_.fields));
   h_.frames.emplace_back(label, name);
   write_file_atomically(dir_ + "/particles.pvd", pvd_document(h_.frames));
+  // The ParaView view of the frames (io/paraview_view.hpp), with the first frame of this process.
+  if (!view_written_) {
+    write_file_atomically(dir_ + "/particles_view.py", paraview_view_script(D, output_.fields, m_.grid.h));
+    view_written_ = true;
+  }
   if (contact) {
     auto frames = h_.frames;
     for (auto& f : frames) f.second.replace(0, std::string("particles_").size(), "contact_");

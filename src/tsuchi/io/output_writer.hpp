@@ -103,6 +103,7 @@ class OutputWriter {
   DirectoryLock lock_;
   OutputHistory h_;
   std::vector<std::string> recorders_;
+  bool view_written_ = false;  // particles_view.py, with this process's first frame
   AppendedFile global_, recorder_file_, stages_file_;
   bool staged_ = false;
   int stage_ = 1;

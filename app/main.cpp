@@ -333,7 +333,10 @@ int fos(const Config& c, const Options& o) {
   const FosResult r = factor_of_safety<D>(c, std::move(m), fo);
   say("bracket: stands at F = {:.6g}, fails at F = {:.6g} ({} trials); trials, stable.vtu and mechanism.vtu in {}\n",
              r.lower, r.upper, r.trials.size(), r.directory);
-  say("factor of safety: {:.4g}\n", r.factor);
+  if (r.bound.empty())
+    say("factor of safety: {:.4g}\n", r.factor);
+  else
+    say("factor of safety: at least {:.4g} (a bound, not the factor): {}\n", r.lower, r.bound);
   return exit_code::ok;
 }
 

@@ -1,6 +1,7 @@
 """`tsuchi fos`, the factor of safety by strength reduction, on examples/slope_fos at 1 m cells
-(--set grid.cell_size=1.0 --set fos.max_steps=4000: the example's 400 H / h steps per trial at that
-grid; 15-35 s on one thread in all, depending on the load).
+(--set grid.cell_size=1.0 --set fos.max_steps=16000: four times the example's 400 H / h steps per
+trial at that grid, which leave the upper end's trial creeping, a bound (BudgetBound); 15-35 s on
+one thread in all, depending on the load).
 
   - slope_fos.toml, Griffiths and Lane (1999) example 1 (2:1, H = 10 m, phi = 20 deg,
     c / (gamma H) = 0.05, no foundation layer): F within 5 % of their 1.4 (the issue's tolerance;
@@ -41,7 +42,7 @@ TSUCHI = sys.argv.pop(1) if len(sys.argv) > 1 else os.path.join(REPO, "build", "
 EXAMPLE = os.path.join(REPO, "examples", "slope_fos")
 SLOPE = os.path.join(EXAMPLE, "slope_fos.toml")
 SLOPE_PHI0 = os.path.join(EXAMPLE, "slope_fos_phi0.toml")
-COARSE = ["--set", "grid.cell_size=1.0", "--set", "fos.max_steps=4000"]
+COARSE = ["--set", "grid.cell_size=1.0", "--set", "fos.max_steps=16000"]
 
 GRIFFITHS_LANE = 1.4          # their finite-element F (Bishop and Morgenstern's charts: 1.38)
 GL_TOLERANCE = 0.05           # relative
@@ -195,6 +196,35 @@ name = "gravity"
 unbalanced_force_ratio = 1e-4
 max_steps = 1000
 """
+
+
+class BudgetBound(unittest.TestCase):
+    """A factor set by the step budget is said to be a bound (issue 41, defect 7). At 1 m cells with
+    4,000 steps a trial, the trial that sets the upper end (F = 1.444) runs out of steps with 4.6 cm
+    of movement against the 0.1 m limit, 1.5 mm of it in its last fifth: creeping, not collapsing.
+    The output is then "at least" the lower end, with the reason, and that bound lies below the
+    factor the ample budget (16,000 steps, GriffithsLane) finds, where the upper end fails by
+    displacement."""
+
+    def test_short_budget_gives_a_bound_below_the_factor(self):
+        r = search("phi20_short", SLOPE, "--set", "grid.cell_size=1.0", "--set", "fos.max_steps=4000")
+        self.assertEqual(r.run.returncode, 0, r.output)
+        m = re.search(r"^factor of safety: at least (\S+) \(a bound, not the factor\): the trial at F = (\S+) "
+                      r"failed only by running out of steps \(fos\.max_steps = 4000\)", r.output, re.M)
+        self.assertIsNotNone(m, r.output)
+        lo, hi = bracket(r.output)
+        self.assertEqual(float(m.group(1)), float(f"{lo:.4g}"))
+        self.assertAlmostEqual(float(m.group(2)), hi, delta=1e-5 * hi)
+        self.assertIsNone(factor(r.output))
+        upper = [t for t in trials(r.out) if abs(float(t["factor"]) - hi) < 1e-5 * hi and t["result"] == "fails"]
+        self.assertTrue(upper and upper[-1]["reason"] == "max_steps", upper)
+        self.assertLess(float(upper[-1]["max_displacement"]), fos_table(SLOPE)["displacement_limit"])
+        ample = search("phi20_j1", SLOPE, *COARSE, threads=1)
+        F = factor(ample.output)
+        self.assertIsNotNone(F, ample.output)
+        self.assertLessEqual(lo, F)
+        fails = [t for t in trials(ample.out) if t["result"] == "fails"]
+        self.assertEqual(min(fails, key=lambda t: float(t["factor"]))["reason"], "displacement", fails)
 
 
 class InputErrors(unittest.TestCase):

@@ -316,7 +316,11 @@ void read_fos(Section& s, Config& c) {
     f.lower = b[0], f.upper = b[1];
   }
   f.tolerance = s.number("tolerance", "a relative width in (0, 1)", [](double x) { return x > 0.0 && x < 1.0; }, 0.01);
-  f.max_steps = s.integer("max_steps", "a positive whole number of steps per trial", [](std::int64_t n) { return n > 0; }, 0);
+  f.max_steps = s.integer("max_steps",
+                          fmt::format("a whole number of steps per trial of at least {}: a trial's ratio is judged "
+                                      "from its 20th step and its rest over its last fifth",
+                                      FosConfig::min_steps),
+                          [](std::int64_t n) { return n >= FosConfig::min_steps; }, 0);
   if (f.max_steps == 0) s.need("max_steps", "the most steps a trial may take to reach equilibrium; without it, a trial is a failure");
   f.unbalanced_force_ratio = s.number("unbalanced_force_ratio", "a tolerance in (0, 1)",
                                       [](double x) { return x > 0.0 && x < 1.0; }, 1e-3);

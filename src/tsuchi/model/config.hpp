@@ -327,6 +327,10 @@ struct FosConfig {
   double unbalanced_force_ratio = 1e-3;  // a trial is in equilibrium below this ratio (near failure it levels off at 1e-3 to 1e-2)
   std::optional<double> displacement_limit;  // a trial fails once a particle moves more than this (m)
   int trials_at_once = 2;                // trials per round (bisection for 1); the same on any thread count
+  // The fewest steps a trial may be given: its ratio is judged from its 20th step
+  // (equilibrium_first_step, run/simulation.hpp) and its rest over its last fifth, which must then
+  // start after that (fos.max_steps = 1 gave "the ground stands at F = 64").
+  static constexpr std::int64_t min_steps = 100;
 };
 
 // A data file the input reads (a record, an STL surface, a particle file): the output and the

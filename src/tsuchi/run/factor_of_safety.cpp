@@ -75,6 +75,7 @@ FosTrial run_trial(const Model<D>& base, const Config& during, const FosConfig& 
     t.failed = true, t.reason = fmt::format("run fault ({})", e.what());
   }
   if (t.reason.empty()) {
+    t.late_growth = t.max_displacement - at_late;
     const bool at_rest = f.displacement_limit && t.max_displacement - at_late < 0.01 * *f.displacement_limit;
     t.failed = !at_rest;
     t.reason = at_rest ? "at rest at max_steps" : "max_steps";
@@ -211,6 +212,27 @@ FosResult factor_of_safety(const Config& config, Model<D> model, const FosOption
     if (first_fail > 0) lo = factors[first_fail - 1], stable_frame = fr[first_fail - 1];
   }
   result.lower = lo, result.upper = hi, result.factor = 0.5 * (lo + hi);
+  // The failure that set the upper end: a trial that ran out of steps while still moving, far from
+  // the displacement limit, has not collapsed; a larger budget may stand it (issue 41, defect 7:
+  // an embankment gave 1.006 at 4,000 steps a trial, 1.315 at 20,000, 1.241 at 40,000, its trials
+  // failing at max_steps with 4 cm of movement against a 0.3 m limit). The factor is then a bound.
+  // A trial on its way to collapse passes the limit within another budget at the rate of its last
+  // fifth (5 x late_growth more); one that would not is undecided: the budget, not the ground, failed it.
+  for (auto it = result.trials.rbegin(); it != result.trials.rend(); ++it) {
+    if (it->factor != hi || !it->failed) continue;
+    const bool short_of_limit =
+        !f.displacement_limit || it->max_displacement + 5.0 * it->late_growth < *f.displacement_limit;
+    if (it->reason == "max_steps" && short_of_limit)
+      result.bound = fmt::format(
+          "the trial at F = {:.6g} failed only by running out of steps (fos.max_steps = {}) with {:.3g} m of "
+          "movement{}, {:.3g} m of it in its last fifth: at that rate it would not reach the limit in as many steps "
+          "again, so it was creeping, not collapsing, F = {:.6g} is a lower bound and the factor may be higher; "
+          "raise fos.max_steps (say to {}) until the factor stops changing",
+          hi, f.max_steps, it->max_displacement,
+          f.displacement_limit ? fmt::format(" against a limit of {:.3g} m", *f.displacement_limit) : std::string{},
+          it->late_growth, lo, 4 * f.max_steps);
+    break;
+  }
 
   std::string csv = "trial,factor,result,reason,steps,unbalanced_force_ratio,max_displacement,wall_seconds\n";
   for (const auto& t : result.trials)

@@ -31,12 +31,16 @@ struct FosTrial {
   std::int64_t steps = 0;
   double unbalanced_force_ratio = 0.0;
   double max_displacement = 0.0;  // m, since the trial began
+  double late_growth = 0.0;       // m, the growth of max_displacement over the last fifth of max_steps
   double wall_seconds = 0.0;
 };
 
 struct FosResult {
   double lower = 0.0, upper = 0.0;  // the last trial that stood and the first that failed
   double factor = 0.0;              // their mean
+  // Not empty when the search's verdicts were set by the step budget rather than by the ground:
+  // the factor is then only a bound (at least `lower`), and this says why and what to change.
+  std::string bound;
   std::vector<FosTrial> trials;
   std::string directory;            // where trials.csv and the frames went
 };

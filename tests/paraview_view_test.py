@@ -126,8 +126,13 @@ def main():
                 "print('STATE', GetAnimationScene().AnimationTime, lut.RGBPoints[0], lut.RGBPoints[-4],\n"
                 "      d.Representation, list(d.SetScaleArray))\n" % view)
         # From another directory: the script finds its frames by its own place, not the working one.
-        r = subprocess.run([xvfb, "-a", pvpython, probe], cwd=tmp, capture_output=True, text=True, timeout=300)
-        m = re.search(r"STATE (\S+) (\S+) (\S+) (.+)", r.stdout)
+        # Twice at most: on a loaded machine the virtual X server may not be up in xvfb-run's time.
+        for attempt in range(2):
+            r = subprocess.run([xvfb, "-a", pvpython, probe], cwd=tmp, capture_output=True, text=True, timeout=300)
+            m = re.search(r"STATE (\S+) (\S+) (\S+) (.+)", r.stdout)
+            if m:
+                break
+            print(f"note: attempt {attempt + 1}: pvpython exit {r.returncode}: {r.stderr[-500:]}")
         check(m is not None, f"pvpython ran the script (exit {r.returncode})", r.stdout[-2000:] + r.stderr[-2000:])
         if m:
             time, lo, hi, rest = float(m.group(1)), float(m.group(2)), float(m.group(3)), m.group(4)

@@ -166,9 +166,14 @@ void PolygonRegion::index_edges() {
   ring_start_.assign(1, 0);
   for (const Ring& r : rings_) ring_start_.push_back(ring_start_.back() + static_cast<std::uint32_t>(r.size()));
   const std::size_t n = ring_start_.back();
-  auto ends = [&](std::size_t ring, std::size_t i, int b) {
-    const Ring& r = rings_[ring];
-    return std::minmax(r[i][b], r[(i + 1) % r.size()][b]);
+  // f(global edge number, lowest and highest coordinate b of its ends) for every edge of every ring.
+  auto each_edge = [&](int b, auto&& f) {
+    for (std::size_t k = 0; k < rings_.size(); ++k)
+      for (std::size_t i = 0; i < rings_[k].size(); ++i) {
+        const Ring& r = rings_[k];
+        const auto [a, z] = std::minmax(r[i][b], r[(i + 1) % r.size()][b]);
+        f(ring_start_[k] + static_cast<std::uint32_t>(i), a, z);
+      }
   };
   for (int b = 0; b < 2; ++b) {
     Bands& bands = bands_[b];
@@ -180,29 +185,20 @@ void PolygonRegion::index_edges() {
       bands.lo = lo, bands.inv_width = span > 0.0 ? static_cast<double>(count) / span : 0.0;
       bands.start.assign(count + 1, 0);
       std::size_t entries = 0;
-      for (std::size_t k = 0; k < rings_.size(); ++k)
-        for (std::size_t i = 0; i < rings_[k].size(); ++i) {
-          const auto [a, z] = ends(k, i, b);
-          entries += bands.band(z) - bands.band(a) + 1;
-        }
+      each_edge(b, [&](std::uint32_t, double a, double z) { entries += bands.band(z) - bands.band(a) + 1; });
       if (entries <= 16 * n || count == 1) break;
       count /= 2;
     }
     // Two passes: the count of each band, then the edges in place.
-    for (std::size_t k = 0; k < rings_.size(); ++k)
-      for (std::size_t i = 0; i < rings_[k].size(); ++i) {
-        const auto [a, z] = ends(k, i, b);
-        for (std::size_t j = bands.band(a); j <= bands.band(z); ++j) ++bands.start[j + 1];
-      }
+    each_edge(b, [&](std::uint32_t, double a, double z) {
+      for (std::size_t j = bands.band(a); j <= bands.band(z); ++j) ++bands.start[j + 1];
+    });
     for (std::size_t j = 0; j < count; ++j) bands.start[j + 1] += bands.start[j];
     bands.edges.assign(bands.start.back(), 0);
     std::vector<std::uint32_t> fill(bands.start.begin(), bands.start.end() - 1);
-    for (std::size_t k = 0; k < rings_.size(); ++k)
-      for (std::size_t i = 0; i < rings_[k].size(); ++i) {
-        const auto [a, z] = ends(k, i, b);
-        for (std::size_t j = bands.band(a); j <= bands.band(z); ++j)
-          bands.edges[fill[j]++] = ring_start_[k] + static_cast<std::uint32_t>(i);
-      }
+    each_edge(b, [&](std::uint32_t e, double a, double z) {
+      for (std::size_t j = bands.band(a); j <= bands.band(z); ++j) bands.edges[fill[j]++] = e;
+    });
   }
 }
 

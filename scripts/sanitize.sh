@@ -33,6 +33,10 @@
 #                           three runs of the program each (44 s and more in Release on a loaded
 #                           host); contact keeps no state of its own across a checkpoint, and the
 #                           checkpoint paths are run by the other Restart tests
+#   bench_quick             tsuchi-bench's small cases (45 s in Release, over the 300 s timeout
+#                           sanitized); a benchmark measures nothing under the sanitizers, and its
+#                           cases (the triaxial specimen, a 3D block) run what Triaxial.Reduced* and
+#                           Verification.* run
 #   slope_fos               four factor-of-safety searches (12 s in Release); the stage and
 #                           strength-reduction code under it is run by Stages.* and staged
 set -euo pipefail
@@ -42,4 +46,4 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTSUCHI_SANITIZE=ON
 cmake --build build-asan -j"$(nproc)"
 export ASAN_OPTIONS=detect_leaks=1:check_initialization_order=1:strict_init_order=1
 export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
-ctest --test-dir build-asan --output-on-failure -j"$(nproc)" -E '^(triaxial_reduced_bands|softening_compression|kill_and_restart|triaxial_main_job|triaxial_bands_reference|triaxial_convergence_script|AntiLocking.StripFootingNearPrandtl|SupportReaction.FixedBaseCarriesTheWeight|SupportReaction.PlatenBalancesTheBase|Bodies.TunnelExample|Loads.GravityRampReachesTheStateOfConstantGravity|BaseMotion.SlopeOnTheTableCarriesItsWeight|SlidingBlock.AccelerationIsCoulombsOnWallAndRigidBase|Contact.OneAndTwoThreadsGiveTheSameBits|Restart.ContactContinuesBitwise|Restart.FreeRigidBodyContinuesBitwise|slope_fos)$'
+ctest --test-dir build-asan --output-on-failure -j"$(nproc)" -E '^(triaxial_reduced_bands|softening_compression|kill_and_restart|triaxial_main_job|triaxial_bands_reference|triaxial_convergence_script|AntiLocking.StripFootingNearPrandtl|SupportReaction.FixedBaseCarriesTheWeight|SupportReaction.PlatenBalancesTheBase|Bodies.TunnelExample|Loads.GravityRampReachesTheStateOfConstantGravity|BaseMotion.SlopeOnTheTableCarriesItsWeight|SlidingBlock.AccelerationIsCoulombsOnWallAndRigidBase|Contact.OneAndTwoThreadsGiveTheSameBits|Restart.ContactContinuesBitwise|Restart.FreeRigidBodyContinuesBitwise|slope_fos|bench_quick)$'

@@ -381,3 +381,160 @@ TEST(Stages, AnEmptyPrescribedVelocityFreesABody) {
 }
 
 }  // namespace
+
+// Parts of bodies by shape (issue 41, staged regions): a cut in the ground by a box of `remove`
+// that names no body, a fill added in a lift by a region of `add` and then whole; the particles
+// counted on the lattice, the load on the cut part gone with it, and each part's geostatic stress
+// that of what is there when it enters: the ground's without the fill, the lift's of itself, the
+// rest's of itself and the lift below.
+TEST(Stages, RegionsRemoveAndAddPartsOfBodies) {
+  const std::string text = R"([model]
+dimension = 2
+gravity = [0.0, -10.0]
+
+[grid]
+extent = [4.0, 3.5]
+cell_size = 0.5
+
+[[materials]]
+name = "soil"
+model = "linear_elastic"
+density = 2000.0
+youngs_modulus = 2e7
+poisson_ratio = 0.3
+
+[[bodies]]
+name = "ground"
+material = "soil"
+min = [0.0, 0.0]
+max = [4.0, 2.0]
+[bodies.initial_stress]
+k0 = 0.5
+
+[[bodies]]
+name = "fill"
+material = "soil"
+min = [0.0, 2.0]
+max = [4.0, 3.0]
+[bodies.initial_stress]
+k0 = 0.5
+
+[[loads]]
+kind = "traction"
+body = "ground"
+min = [0.0, 1.8]
+max = [4.0, 2.0]
+pressure = 1e4
+
+[boundary]
+y_min = "fixed"
+
+[[stages]]
+name = "rest"
+steps = 10
+
+[[stages]]
+name = "cut and lift"
+remove = [{ min = [3.0, 1.0], max = [4.0, 2.0] }]
+add = [{ body = "fill", shape = "half_space", point = [0.0, 2.5], normal = [0.0, 1.0] }]
+steps = 10
+
+[[stages]]
+name = "top"
+add = ["fill"]
+steps = 10
+)";
+  const Config c = read_config_string(text, "regions.toml");
+  ASSERT_EQ(c.stages[1].remove_regions.size(), 1u);
+  EXPECT_TRUE(c.stages[1].remove_regions[0].bodies.empty());
+  ASSERT_EQ(c.stages[1].add_regions.size(), 1u);
+  EXPECT_TRUE(c.body_starts_dormant[1]) << "a body named by a region of add waits from the start";
+  Model<2> m = build_model<2>(c);
+  // 0.25 m spacing: the ground 16 x 8, the fill 16 x 4 waiting.
+  ASSERT_EQ(m.particles.size(), 128u);
+  ASSERT_EQ(m.dormant.size(), 64u);
+  const double rho_g = 2000.0 * 10.0;
+  for (std::size_t i = 0; i < m.particles.size(); ++i)
+    EXPECT_NEAR(m.particles.sigma_p[i][1], -rho_g * (2.0 - m.particles.x_p[i][1]), 1e-9 * rho_g);
+  for (std::size_t i = 0; i < m.dormant.size(); ++i) {
+    const double y = m.dormant.x_p[i][1];
+    const double top = y < 2.5 ? 2.5 : 3.0;  // the lift weighs itself; the rest itself and the lift
+    EXPECT_NEAR(m.dormant.sigma_p[i][1], -rho_g * (top - y), 1e-9 * rho_g) << "fill particle at y = " << y;
+  }
+  const std::size_t loaded = m.loads.surface.at(0).id.size();
+  EXPECT_EQ(loaded, 16u);  // the top row's faces
+  check_stages(m, c);
+
+  change_particles(m, c, 1);
+  EXPECT_EQ(m.particles.size(), 128u - 16u + 32u) << "4 x 4 cut out, 16 x 2 of the lift in";
+  EXPECT_EQ(m.dormant.size(), 32u);
+  for (std::size_t i = 0; i < m.particles.size(); ++i) {
+    const Vec<2>& x = m.particles.x_p[i];
+    EXPECT_FALSE(x[0] > 3.0 && x[1] > 1.0 && x[1] < 2.0) << "a particle of the cut is left at " << x.transpose();
+    if (m.particles.body_p[i] == 1) {
+      EXPECT_LT(x[1], 2.5);
+    }
+  }
+  EXPECT_EQ(m.loads.surface[0].id.size(), loaded - 4u) << "the load on the cut's top row goes with it";
+  change_particles(m, c, 2);
+  EXPECT_EQ(m.particles.size(), 128u - 16u + 64u);
+  EXPECT_EQ(m.dormant.size(), 0u);
+  std::set<std::int64_t> ids(m.particles.id_p.begin(), m.particles.id_p.end());
+  EXPECT_EQ(ids.size(), m.particles.size()) << "ids stay unique";
+}
+
+// The sequence of stage regions is checked before the run: a region of add for a body that a
+// stage added whole, a region that holds no particle (naming the stage); parts of a body added in
+// several stages and then the rest whole pass.
+TEST(Stages, RegionsAreCheckedAsASequence) {
+  const std::string head = R"([model]
+dimension = 2
+gravity = [0.0, -10.0]
+[grid]
+extent = [4.0, 3.5]
+cell_size = 0.5
+[[materials]]
+name = "soil"
+model = "linear_elastic"
+density = 2000.0
+youngs_modulus = 2e7
+poisson_ratio = 0.3
+[[bodies]]
+name = "ground"
+material = "soil"
+min = [0.0, 0.0]
+max = [4.0, 2.0]
+[[bodies]]
+name = "fill"
+material = "soil"
+min = [0.0, 2.0]
+max = [4.0, 3.0]
+[boundary]
+y_min = "fixed"
+[[stages]]
+name = "rest"
+steps = 10
+)";
+  const auto message = [&](const std::string& stages) {
+    try {
+      const Config c = read_config_string(head + stages, "regions.toml");
+      check_stages(build_model<2>(c), c);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("[[stages]]\nname = \"a\"\nadd = [\"fill\"]\nsteps = 1\n[[stages]]\nname = \"b\"\n"
+                    "add = [{ body = \"fill\", min = [0.0, 2.0], max = [4.0, 2.5] }]\nsteps = 1\n")
+                .find("key 'stages.2.add.0.body': body \"fill\" was added whole by an earlier stage"),
+            std::string::npos);
+  const std::string nothing = message("[[stages]]\nname = \"a\"\nadd = [\"fill\"]\nsteps = 1\n[[stages]]\nname = \"b\"\n"
+                                      "remove = [{ body = \"ground\", min = [0.0, 2.1], max = [4.0, 3.0] }]\nsteps = 1\n");
+  EXPECT_NE(nothing.find("stage 3 \"b\""), std::string::npos) << nothing;
+  EXPECT_NE(nothing.find("the box region holds no particle of body \"ground\""), std::string::npos) << nothing;
+  // Parts added in several stages, then the rest whole: fine.
+  EXPECT_EQ(message("[[stages]]\nname = \"a\"\nadd = [{ body = \"fill\", max = [4.0, 2.5], min = [0.0, 2.0] }]\nsteps = 1\n"
+                    "[[stages]]\nname = \"b\"\nadd = [{ body = \"fill\", min = [0.0, 2.5], max = [2.0, 3.0] }]\nsteps = 1\n"
+                    "[[stages]]\nname = \"c\"\nadd = [\"fill\"]\nsteps = 1\n"),
+            "no error");
+}

@@ -930,6 +930,12 @@ Config read_input(const std::string& text, const std::string& file, const std::v
   for (std::size_t k = 1; k < stages.size(); ++k)
     for (const auto& w : stages[k].config->warnings)
       if (std::find(c.warnings.begin(), c.warnings.end(), w) == c.warnings.end()) c.warnings.push_back(w);
+  // And every file they read (a region's STL surface), which the output must not overwrite.
+  for (std::size_t k = 1; k < stages.size(); ++k)
+    for (const DataFile& f : stages[k].config->data_files)
+      if (std::none_of(c.data_files.begin(), c.data_files.end(),
+                       [&](const DataFile& g) { return g.path == f.path && g.where == f.where; }))
+        c.data_files.push_back(f);
   c.stages = std::move(stages);
   c.fingerprint = fingerprint(root);
   for (const std::uint64_t d : c.file_digests) c.fingerprint = (c.fingerprint ^ d) * 1099511628211ull;

@@ -1,5 +1,8 @@
 #include "tsuchi/io/stage_reader.hpp"
 
+#include "tsuchi/io/csv_table.hpp"
+#include "tsuchi/io/shape_reader.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -164,7 +167,7 @@ toml::table merge_stages(toml::table root, std::size_t last, const std::string& 
   return root;
 }
 
-StageConfig read_stage(const toml::table& root, std::size_t k, const Config& during, const std::string& file) {
+StageConfig read_stage(const toml::table& root, std::size_t k, Config& during, const std::string& file) {
   const toml::table& t = *stage_array(root).get(k)->as_table();
   Section s(t, fmt::format("stages.{}", k), file);
   StageConfig st;
@@ -201,21 +204,68 @@ StageConfig read_stage(const toml::table& root, std::size_t k, const Config& dur
   if (!e.duration && e.steps == 0 && e.max_steps == 0)
     s.need("max_steps", fmt::format("a step limit: a stage that ends by {} may never get there",
                                     e.equilibrium() ? "equilibrium" : "a recorder's value"));
+  const auto body_index = [&](Section& at, const char* key, const std::string& name, const std::string& expected) {
+    const auto it = std::find_if(during.bodies.begin(), during.bodies.end(),
+                                 [&](const BodyConfig& b) { return b.name == name; });
+    if (it == during.bodies.end())
+      at.fail(key, fmt::format("expected {} ({}), got \"{}\"", expected, quoted_list(during.bodies, &BodyConfig::name),
+                               printable(name)));
+    return static_cast<int>(it - during.bodies.begin());
+  };
+  // A part by its shape: { body = "NAME" or ["NAME", ...], shape = ..., and the shape's keys }.
+  const auto region = [&](const char* key, std::size_t j, const toml::table& entry) {
+    Section rs(entry, fmt::format("{}.{}", s.key_path(key), j), file);
+    StageRegionConfig r;
+    r.key_path = rs.path();
+    r.where = where(file, entry.source());
+    const bool adding = std::string_view(key) == "add";
+    const std::string expected_body =
+        adding ? "the name of a body that a stage adds" : "the name of a body";
+    if (const toml::node* b = rs.get("body")) {
+      if (const auto* name = b->as_string()) {
+        r.bodies.push_back(body_index(rs, "body", name->get(), expected_body));
+      } else if (const auto* a = b->as_array(); a && !a->empty()) {
+        for (const auto& v : *a) {
+          const auto* n = v.as_string();
+          if (!n) rs.fail("body", fmt::format("expected body names, got an entry that is {}", describe(v)));
+          const int i = body_index(rs, "body", n->get(), expected_body);
+          if (std::find(r.bodies.begin(), r.bodies.end(), i) != r.bodies.end())
+            rs.fail("body", fmt::format("body \"{}\" is named twice", n->get()));
+          r.bodies.push_back(i);
+        }
+      } else {
+        rs.fail("body", fmt::format("expected a body name or an array of body names, got {}", describe(*b)));
+      }
+    } else if (adding) {
+      rs.need("body", "the body whose particles the region adds (a body named in regions of 'add' waits "
+                      "until they add its parts)");
+    }
+    for (const int b : r.bodies)
+      if (during.bodies[static_cast<std::size_t>(b)].rigid_mass > 0.0)
+        rs.fail("body", fmt::format("body \"{}\" is a rigid body (rigid_mass): it is {} whole, by its name in '{}'",
+                                    during.bodies[static_cast<std::size_t>(b)].name, adding ? "added" : "removed", key));
+    r.kind = rs.has("shape") ? rs.string("shape", "a shape kind") : std::string("box");
+    // A half-space alone may bound a cut ("everything of the ground above y = 8 m").
+    r.shape = read_shape(rs, during.dimension, input_directory(file), Extent::MayBeUnbounded, &during.data_files,
+                         &during.warnings);
+    rs.finish();
+    (adding ? st.add_regions : st.remove_regions).push_back(std::move(r));
+  };
   auto bodies = [&](const char* key, std::vector<int>& out) {
     const toml::node* n = s.get(key);
     if (!n) return;
     const auto* a = n->as_array();
-    const std::string expected = "an array of body names";
+    const std::string expected = "an array of body names and of regions ({ body = \"NAME\", shape keys })";
     if (!a) s.fail(key, fmt::format("expected {}, got {}", expected, describe(*n)));
-    for (const auto& v : *a) {
+    for (std::size_t j = 0; j < a->size(); ++j) {
+      const toml::node& v = *a->get(j);
+      if (const auto* entry = v.as_table()) {
+        region(key, j, *entry);
+        continue;
+      }
       const auto* name = v.as_string();
       if (!name) s.fail(key, fmt::format("expected {}, got an entry that is {}", expected, describe(v)));
-      const auto it = std::find_if(during.bodies.begin(), during.bodies.end(),
-                                   [&](const BodyConfig& b) { return b.name == name->get(); });
-      if (it == during.bodies.end())
-        s.fail(key, fmt::format("expected the name of a body ({}), got \"{}\"",
-                                quoted_list(during.bodies, &BodyConfig::name), printable(name->get())));
-      const int b = static_cast<int>(it - during.bodies.begin());
+      const int b = body_index(s, key, name->get(), "the name of a body");
       if (std::find(out.begin(), out.end(), b) != out.end())
         s.fail(key, fmt::format("body \"{}\" is named twice", name->get()));
       out.push_back(b);
@@ -260,31 +310,57 @@ StageConfig read_stage(const toml::table& root, std::size_t k, const Config& dur
 void check_stage_sequence(Config& c, const toml::table& root) {
   const std::size_t n = c.bodies.size();
   c.body_starts_dormant.assign(n, false);
-  for (const auto& st : c.stages)
+  for (const auto& st : c.stages) {
     for (const int b : st.add) c.body_starts_dormant[static_cast<std::size_t>(b)] = true;
-  std::vector<bool> present(n), removed(n, false);
-  for (std::size_t b = 0; b < n; ++b) present[b] = !c.body_starts_dormant[b];
+    for (const auto& r : st.add_regions)
+      for (const int b : r.bodies) c.body_starts_dormant[static_cast<std::size_t>(b)] = true;
+  }
+  // Waiting whole, partly added by regions, there whole (perhaps cut by regions), removed whole.
+  enum class State { Waiting, Partial, Whole, Removed };
+  std::vector<State> state(n);
+  for (std::size_t b = 0; b < n; ++b) state[b] = c.body_starts_dormant[b] ? State::Waiting : State::Whole;
+  const auto there = [&](std::size_t b) { return state[b] == State::Partial || state[b] == State::Whole; };
   for (std::size_t k = 0; k < c.stages.size(); ++k) {
     const StageConfig& st = c.stages[k];
     Section s(*stage_array(root).get(k)->as_table(), fmt::format("stages.{}", k), c.source);
     for (std::size_t j = 0; j < k; ++j)
       if (c.stages[j].name == st.name) s.fail("name", fmt::format("stage \"{}\" is defined twice", st.name));
+    const auto absent = [&](std::size_t b) {
+      return fmt::format("body \"{}\" is not there in stage \"{}\": {}", c.bodies[b].name, st.name,
+                         state[b] == State::Removed ? "an earlier stage removed it" : "a later stage adds it");
+    };
+    // In the order change_particles applies them: removals, then additions.
+    for (const auto& r : st.remove_regions)
+      for (const int b : r.bodies)
+        if (!there(static_cast<std::size_t>(b))) throw InputError(fmt::format("{}: key '{}.body': {}", r.where, r.key_path, absent(static_cast<std::size_t>(b))));
     for (const int b : st.remove) {
       const auto ub = static_cast<std::size_t>(b);
-      if (!present[ub])
-        s.fail("remove", fmt::format("body \"{}\" is not there in stage \"{}\": {}", c.bodies[ub].name, st.name,
-                                     removed[ub] ? "an earlier stage removed it" : "a later stage adds it"));
-      present[ub] = false, removed[ub] = true;
+      if (!there(ub)) s.fail("remove", absent(ub));
+      state[ub] = State::Removed;
     }
     for (const int b : st.add) {
       const auto ub = static_cast<std::size_t>(b);
-      if (removed[ub] || present[ub])
-        s.fail("add", fmt::format("body \"{}\" {}; a body is added once, by the first stage that names it in 'add', "
-                                  "and is absent until then",
-                                  c.bodies[ub].name, removed[ub] ? "was removed by an earlier stage" : "is added by an earlier stage"));
-      present[ub] = true;
+      if (!(state[ub] == State::Waiting || state[ub] == State::Partial))
+        s.fail("add", fmt::format("body \"{}\" {}; a body is added once, by the first stage that names it in 'add' "
+                                  "(after any parts that regions add), and is absent until then",
+                                  c.bodies[ub].name,
+                                  state[ub] == State::Removed ? "was removed by an earlier stage" : "is added by an earlier stage"));
+      state[ub] = State::Whole;
     }
-    if (!st.remove.empty() && std::none_of(present.begin(), present.end(), [](bool p) { return p; }))
+    for (const auto& r : st.add_regions)
+      for (const int b : r.bodies) {
+        const auto ub = static_cast<std::size_t>(b);
+        if (state[ub] == State::Whole || state[ub] == State::Removed)
+          throw InputError(fmt::format(
+              "{}: key '{}.body': body \"{}\" {}: a region adds particles of a body that still waits (a body "
+              "named in a region of 'add' is absent from the start, until its parts are added)",
+              r.where, r.key_path, c.bodies[ub].name,
+              state[ub] == State::Removed ? "was removed by an earlier stage"
+              : std::find(st.add.begin(), st.add.end(), b) != st.add.end() ? "is added whole by this stage"
+                                                                            : "was added whole by an earlier stage"));
+        state[ub] = State::Partial;
+      }
+    if (!st.remove.empty() && std::none_of(state.begin(), state.end(), [](State x) { return x == State::Partial || x == State::Whole; }))
       s.fail("remove", fmt::format("stage \"{}\" removes every body there is: it would run on an empty model; "
                                    "expected at least one body left",
                                    st.name));

@@ -23,12 +23,14 @@ std::size_t stage_count(const toml::table& root, const std::string& file);
 // and a material or body that the input does not define.
 toml::table merge_stages(toml::table root, std::size_t last, const std::string& file);
 
-// Stage k's own keys (its name, end, bodies removed and added, reset), with `during` the input as it
-// stands in stage k (its bodies and recorders), and the parts of the input it changes.
-StageConfig read_stage(const toml::table& root, std::size_t k, const Config& during, const std::string& file);
+// Stage k's own keys (its name, end, bodies and parts of bodies removed and added, reset), with
+// `during` the input as it stands in stage k (its bodies and recorders; a file a region's shape reads
+// and a warning about it are added to it), and the parts of the input it changes.
+StageConfig read_stage(const toml::table& root, std::size_t k, Config& during, const std::string& file);
 
-// Checks the stages as a sequence: names unique, no reset in the first stage, a body added once
-// while absent and removed once while present. Sets Config::body_starts_dormant.
+// Checks the stages as a sequence: names unique, no reset in the first stage, a body added while
+// absent (whole once, or by parts in any number of stages until then) and removed (whole once, or
+// by parts) while present. Sets Config::body_starts_dormant.
 void check_stage_sequence(Config& c, const toml::table& root);
 
 // [fos] of the input (after the stages are read: it names one).

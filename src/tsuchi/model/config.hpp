@@ -297,6 +297,19 @@ struct StageEnd {
   bool equilibrium() const { return unbalanced_force_ratio || kinetic_energy_ratio; }
 };
 
+// A part of the model that a stage removes or adds by its shape (an entry of `remove` / `add` that
+// is a table): a cut in layers, a tunnel's advance, a fill in lifts, without a body per part.
+// remove: the particles of `bodies` (every body there when empty) whose centre lies inside `shape`
+// at the stage's start; add: the waiting particles of `bodies` (a body a stage adds, Model::dormant)
+// inside it.
+struct StageRegionConfig {
+  std::vector<int> bodies;
+  geometry::ShapePtr shape;
+  std::string kind;      // the shape's kind as written, for messages
+  std::string key_path;  // "stages.K.remove.J", for messages
+  std::string where;     // "FILE:LINE:COL" of the entry
+};
+
 // A stage of [[stages]]: what changes at its start and how it ends. `config` is the whole input as
 // it stands during the stage (the file with the changes of this and every earlier stage merged in).
 struct StageConfig {
@@ -304,6 +317,7 @@ struct StageConfig {
   std::string where;                     // "FILE:LINE:COL" of the stage's table, for messages
   StageEnd end;
   std::vector<int> remove, add;          // bodies removed (excavation) / added (fill) at the start
+  std::vector<StageRegionConfig> remove_regions, add_regions;  // and parts of bodies, by shape
   bool reset_displacements = false;      // displacements and strains set to zero at the start
   // Which parts of the input the stage changes: their functions of time start at the stage's start,
   // and only they are rebuilt (an unchanged load keeps its particles and forces).

@@ -18,6 +18,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 
 namespace tsuchi {
 
@@ -62,8 +63,17 @@ void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m
   const BodyConfig& b = c.bodies[body];
   auto& p = m.particles;
   const GeostaticFrame frame = geostatic_frame(c);
-  const Overburden overburden(c, frame.up_axis, frame.up_sign, present_with(c, body));
   const bool k0 = b.initial_stress.kind == InitialStressConfig::Kind::K0;
+  // The overburden of what is in the model when each particle enters it: one for a body there
+  // from the start or added whole, one per stage for a body added by parts (overburden.hpp).
+  std::map<int, Overburden> overburden;
+  const auto weight_above = [&](const geometry::Point& x) {
+    const int k = entry_stage(c, body, x);
+    auto it = overburden.find(k);
+    if (it == overburden.end())
+      it = overburden.emplace(k, Overburden(c, frame.up_axis, frame.up_sign, present_after(c, k))).first;
+    return it->second.mass_above(x);
+  };
   ImperfectionField field(b.imperfection);
   const bool imperfect = b.imperfection.amplitude > 0.0 && (b.imperfection.cohesion || b.imperfection.friction);
   // The imperfection scales the strength factors of the material's state (the input reader has
@@ -78,7 +88,7 @@ void set_initial_state(const Config& c, int body, std::size_t start, Model<D>& m
       sigma_v = b.initial_stress.surface
                     ? b.initial_stress.surface_stress -
                           density * frame.g * frame.up_sign * (*b.initial_stress.surface - x[frame.up_axis])
-                    : column_surcharge(c, body, x) - frame.g * overburden.mass_above(x);
+                    : column_surcharge(c, body, x) - frame.g * weight_above(x);
     }
     p.sigma_p[q] = initial_stress<D>(b.initial_stress, frame, sigma_v);
     if (imperfect) field.next((*c_factor)[q], (*phi_factor)[q]);

@@ -8,17 +8,21 @@
 
 #include <algorithm>
 #include <cstring>
+#include <string_view>
 #include <type_traits>
 
 namespace tsuchi {
 
-template <int D>
-void move_bodies(Particles<D>& from, Particles<D>& to, const std::vector<std::int32_t>& bodies) {
+namespace {
+
+// Moves the particles i of `from` with chosen(i) to the end of `to` (its state columns declared like
+// `from`'s when it has none), keeping the order of both; returns how many moved.
+template <int D, class Chosen>
+std::size_t move_particles(Particles<D>& from, Particles<D>& to, Chosen chosen) {
   if (to.size() == 0 && to.state_name.empty()) to.same_arrays_as(from);
   std::vector<std::size_t> keep, move;
-  for (std::size_t i = 0; i < from.size(); ++i)
-    (std::find(bodies.begin(), bodies.end(), from.body_p[i]) != bodies.end() ? move : keep).push_back(i);
-  if (move.empty()) return;
+  for (std::size_t i = 0; i < from.size(); ++i) (chosen(i) ? move : keep).push_back(i);
+  if (move.empty()) return 0;
   const std::size_t base = to.size();
   to.resize(base + move.size());
   // Each array of `from` with its namesake in `to` (the same list, for_each_array).
@@ -33,15 +37,59 @@ void move_bodies(Particles<D>& from, Particles<D>& to, const std::vector<std::in
       }
     });
   });
+  return move.size();
+}
+
+geometry::Point point_of(const Vec<2>& x) { return {x[0], x[1], 0.0}; }
+geometry::Point point_of(const Vec<3>& x) { return {x[0], x[1], x[2]}; }
+
+// Whether a region of `bodies` takes body b's particles: a region that names no body cuts every
+// deformable body (a free rigid body is removed whole or not at all).
+bool names(const Config& run, const std::vector<int>& bodies, int b) {
+  if (bodies.empty()) return run.bodies[static_cast<std::size_t>(b)].rigid_mass <= 0.0;
+  return std::find(bodies.begin(), bodies.end(), b) != bodies.end();
+}
+
+// The particles of a stage region: those of its bodies whose centre it holds. A region that holds
+// none is an input error (a cut drawn beside the ground, a lift above the fill's shape).
+template <int D>
+void move_region(Particles<D>& from, Particles<D>& to, const StageRegionConfig& r, const Config& run,
+                 const StageConfig& st, const char* key) {
+  const std::size_t moved = move_particles(from, to, [&](std::size_t i) {
+    return names(run, r.bodies, from.body_p[i]) && r.shape->contains(point_of(from.x_p[i]));
+  });
+  if (moved > 0) return;
+  std::string which;
+  for (const int b : r.bodies) which += fmt::format("{}\"{}\"", which.empty() ? "" : ", ", run.bodies[static_cast<std::size_t>(b)].name);
+  const bool adding = std::string_view(key) == "add";
+  const std::string whose = which.empty() ? std::string("of any body there")
+                                          : fmt::format("{} body {}", adding ? "waiting in" : "of", which);
+  throw InputError(fmt::format("{}: key '{}': the {} region holds no particle {} at the start of stage \"{}\"; "
+                               "expected a shape over the particles it {}",
+                               r.where, r.key_path, r.kind, whose, st.name, adding ? "adds" : "removes"));
+}
+
+}  // namespace
+
+template <int D>
+void move_bodies(Particles<D>& from, Particles<D>& to, const std::vector<std::int32_t>& bodies) {
+  move_particles(from, to, [&](std::size_t i) {
+    return std::find(bodies.begin(), bodies.end(), from.body_p[i]) != bodies.end();
+  });
 }
 
 template <int D>
 void change_particles(Model<D>& m, const Config& run, std::size_t k) {
   const StageConfig& st = run.stages[k];
-  if (!st.remove.empty()) {
+  if (!st.remove.empty() || !st.remove_regions.empty()) {
     Particles<D> gone;
+    for (const auto& r : st.remove_regions) move_region(m.particles, gone, r, run, st, "remove");
     move_bodies(m.particles, gone, st.remove);
-    // A surface load keeps the particles that are still there.
+    if (m.particles.size() == 0)
+      throw InputError(fmt::format("{}: key 'stages.{}.remove': stage \"{}\" removes every particle there is: it "
+                                   "would run on an empty model; expected at least one particle left",
+                                   st.where, k, st.name));
+    // A surface load keeps the particles that are still there; the new faces are free.
     std::vector<std::uint8_t> present(static_cast<std::size_t>(m.id_count), 0);
     for (const std::int64_t id : m.particles.id_p) present[static_cast<std::size_t>(id)] = 1;
     for (auto& load : m.loads.surface) {
@@ -52,6 +100,7 @@ void change_particles(Model<D>& m, const Config& run, std::size_t k) {
     }
   }
   if (!st.add.empty()) move_bodies(m.dormant, m.particles, st.add);
+  for (const auto& r : st.add_regions) move_region(m.dormant, m.particles, r, run, st, "add");
   if (st.reset_displacements) {
     std::fill(m.particles.u_p.begin(), m.particles.u_p.end(), Vec<D>::Zero());
     std::fill(m.particles.eps_p.begin(), m.particles.eps_p.end(), Voigt<D>::Zero());

@@ -2,8 +2,12 @@
 // How a staged run changes its model at the start of a stage (docs/stages.md). The particles keep
 // their state from one stage to the next; what a stage changes is applied in place:
 //   - bodies removed (excavation) lose their particles, and surface loads their share on them;
+//     a region of `remove` takes the particles whose centre its shape holds at the stage's start
+//     (a cut in layers, a tunnel's advance); they take their stress with them, so the new face is
+//     free and the load it carried is released;
 //   - bodies added (fill, construction) get theirs from Model::dormant, made with the rest at the
-//     start with their initial stress, and join the step;
+//     start with their initial stress, and join the step; a region of `add` wakes the waiting
+//     particles of its body that its shape holds (a fill in lifts);
 //   - displacements and strains reset to zero (PLAXIS's habit), so that later outputs show what
 //     the later stages caused;
 //   - the materials, the step settings, gravity, the boundary, the loads and the bodies' prescribed

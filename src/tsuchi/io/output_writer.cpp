@@ -111,7 +111,8 @@ const std::string& existing_for_restart(const std::string& dir, const OutputHist
 
 template <int D>
 OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output, std::string directory,
-                              std::vector<std::string> recorder_names, const OutputHistory* resume, bool staged)
+                              std::vector<std::string> recorder_names, const OutputHistory* resume, bool staged,
+                              bool contact_later)
     : m_(model),
       output_(output),
       dir_(std::move(directory)),
@@ -121,7 +122,8 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output,
   std::string global_header = "time,step,dt,kinetic_energy,strain_energy,gravity_potential,total_energy,mass";
   for (int d = 0; d < D; ++d) global_header += fmt::format(",momentum_{}", "xyz"[d]);
   global_header += ",unbalanced_force_ratio,released_particles";
-  global_header += model.contact.active() ? ",contact_nodes" : "";
+  const bool contact = contact_column_ = model.contact.active() || contact_later;
+  global_header += contact ? ",contact_nodes" : "";
   global_header += staged ? ",stage\n" : "\n";
   std::string recorder_header;
   if (!recorders_.empty()) {
@@ -173,8 +175,12 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output,
     }
     if ((is_frame_file_name(frame) && !listed) || (name == "recorders.csv" && recorders_.empty()) ||
         (name == "stages.csv" && !staged_) || stage_pvd ||
-        (name == "contact.pvd" && (h_.frames.empty() || !model.contact.active())))
+        (name == "contact.pvd" && (h_.frames.empty() || !contact)))
       fs::remove(entry.path(), ec);
+  }
+  for (const auto& [label, name] : h_.frames) {
+    const std::string own = "contact_" + name.substr(std::string("particles_").size());
+    if (contact && fs::exists(fs::path(dir_) / own, ec)) contact_frames_.emplace_back(label, own);
   }
   const std::string pvd = dir_ + "/particles.pvd";
   if (h_.frames.empty()) fs::remove(pvd, ec), fs::remove(dir_ + "/particles_view.py", ec);
@@ -198,9 +204,8 @@ void OutputWriter<D>::frame(double label, const ContactPoints* contact) {
     view_written_ = true;
   }
   if (contact) {
-    auto frames = h_.frames;
-    for (auto& f : frames) f.second.replace(0, std::string("particles_").size(), "contact_");
-    write_file_atomically(dir_ + "/contact.pvd", pvd_document(frames));
+    contact_frames_.emplace_back(label, "contact_" + name.substr(std::string("particles_").size()));
+    write_file_atomically(dir_ + "/contact.pvd", pvd_document(contact_frames_));
   }
   flush_global();
 }
@@ -214,7 +219,8 @@ void OutputWriter<D>::global_row(double time, std::int64_t step, double dt, cons
                                 q.kinetic_energy + q.strain_energy + q.gravity_potential, q.mass);
   for (int d = 0; d < D; ++d) row += fmt::format(",{:.12g}", q.momentum[d]);
   row += fmt::format(",{:.6g},{}", report.unbalanced_force_ratio, report.released_particles);
-  row += report.contact_nodes >= 0 ? fmt::format(",{}", report.contact_nodes) : std::string{};
+  // 0 in a stage without contact, when a later stage has it.
+  row += contact_column_ ? fmt::format(",{}", std::max<std::int64_t>(0, report.contact_nodes)) : std::string{};
   row += staged_ ? fmt::format(",{}\n", stage_) : std::string("\n");
   global_.append(row);
   if (recorders_.empty()) return;

@@ -67,9 +67,11 @@ class OutputWriter {
   // Creates the directory, locks it and starts the files; with `resume`, continues the files of a
   // checkpointed run instead (InputError when they are not there as the checkpoint left them).
   // recorders.csv gets a column per name in `recorder_names` (none: no file).
-  // With `staged`, the CSVs get a stage column and stages.csv is written (stage_row).
+  // With `staged`, the CSVs get a stage column and stages.csv is written (stage_row). global.csv has
+  // a contact_nodes column when the model has contact, or `contact_later` (a stage starts it).
   OutputWriter(const Model<D>& model, const OutputConfig& output, std::string directory,
-               std::vector<std::string> recorder_names, const OutputHistory* resume = nullptr, bool staged = false);
+               std::vector<std::string> recorder_names, const OutputHistory* resume = nullptr, bool staged = false,
+               bool contact_later = false);
 
   // The stage the next rows belong to (1-based), for a staged run.
   void set_stage(int stage) { stage_ = stage; }
@@ -104,6 +106,9 @@ class OutputWriter {
   OutputHistory h_;
   std::vector<std::string> recorders_;
   bool view_written_ = false;  // particles_view.py, with this process's first frame
+  // The frames with a contact_NNNNNN.vtu (those of the stages with contact), for contact.pvd.
+  std::vector<std::pair<double, std::string>> contact_frames_;
+  bool contact_column_ = false;  // global.csv's contact_nodes
   AppendedFile global_, recorder_file_, stages_file_;
   bool staged_ = false;
   int stage_ = 1;

@@ -21,7 +21,8 @@ const std::set<std::string> body_keys = {"material", "prescribed_velocity", "pre
 const std::set<std::string> own_keys = {"name", "duration", "steps", "max_steps", "unbalanced_force_ratio",
                                         "kinetic_energy_ratio", "recorder", "above", "below", "remove", "add",
                                         "reset_displacements"};
-const std::set<std::string> merged_keys = {"model", "solver", "time", "boundary", "loads", "materials", "bodies"};
+const std::set<std::string> merged_keys = {"model", "solver", "time", "boundary", "loads", "contact", "materials",
+                                           "bodies"};
 
 std::string list(const std::set<std::string>& keys) { return quoted_list(keys); }
 
@@ -157,7 +158,7 @@ toml::table merge_stages(toml::table root, std::size_t last, const std::string& 
       if (t->contains("dt")) root.get_as<toml::table>("time")->erase("courant");
       if (t->contains("courant")) root.get_as<toml::table>("time")->erase("dt");
     }
-    for (const char* name : {"model", "solver", "time", "boundary", "loads"}) {
+    for (const char* name : {"model", "solver", "time", "boundary", "loads", "contact"}) {
       toml::node* n = stage.get(name);
       if (!n) continue;
       if (toml::table* t = n->as_table(); t && root.get_as<toml::table>(name)) merge(*root.get_as<toml::table>(name), std::move(*t));
@@ -285,13 +286,14 @@ StageConfig read_stage(const toml::table& root, std::size_t k, Config& during, c
   if (k == 0 && st.reset_displacements)
     s.fail("reset_displacements", "expected no reset in the first stage: nothing has moved before it");
   // What the stage changes (merge_stages has checked the tables).
-  for (const char* key : {"model", "solver", "time", "boundary", "loads", "materials", "bodies"}) s.get(key);
+  for (const char* key : {"model", "solver", "time", "boundary", "loads", "contact", "materials", "bodies"}) s.get(key);
   if (const auto* m = t.get_as<toml::table>("model")) {
     st.changes_gravity = m->contains("gravity") || m->contains("gravity_function");
     st.sets_gravity_function = m->contains("gravity_function");
   }
   if (const auto* b = t.get_as<toml::table>("boundary")) st.sets_node_sets = b->contains("nodes");
   st.changes_loads = t.contains("loads");
+  st.changes_contact = t.contains("contact");
   st.changes_boundary = t.contains("boundary");
   st.changes_materials = t.contains("materials");
   st.changes_solver = t.contains("solver");

@@ -325,6 +325,7 @@ struct StageConfig {
   // Which functions of time the stage sets (they start with it; the others keep their clocks).
   bool sets_gravity_function = false, sets_node_sets = false;
   bool changes_materials = false, changes_solver = false;
+  bool changes_contact = false;          // [[stages.contact]]: every pair replaced (contact = []: none)
   std::vector<int> changes_motion;       // bodies whose prescribed motion the stage sets
   std::vector<int> changes_body_material;  // bodies given another material
   std::shared_ptr<const Config> config;

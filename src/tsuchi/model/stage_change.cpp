@@ -186,8 +186,10 @@ void reconfigure(Model<D>& m, const Config& run, std::size_t k, double t0) {
     motion.function = motion.function.starting_at(t0);
     m.motion[static_cast<std::size_t>(b)] = motion;
   }
-  // Frictional walls and rigid bodies follow the boundary and the motions (the pairs cannot change).
-  if (st.changes_boundary || !st.changes_motion.empty()) m.contact = build_contact<D>(c, m);
+  // The pairs as the stage gives them; frictional walls and rigid bodies follow the boundary and the
+  // motions. The step's velocity fields follow (a new ExplicitSolver for each stage; ContactStage
+  // adds grid fields as a stage needs more).
+  if (st.changes_boundary || !st.changes_motion.empty() || st.changes_contact) m.contact = build_contact<D>(c, m);
   if (st.changes_loads) {
     m.loads = build_loads<D>(c, m.particles, m.grid);
     for (auto& l : m.loads.surface) l.function = l.function.starting_at(t0);
@@ -216,6 +218,16 @@ void check_stages(const Model<D>& m, const Config& run) {
   }
 }
 
+template <int D>
+bool contact_in_some_stage(const Model<D>& m, const Config& run) {
+  if (m.contact.active()) return true;
+  for (std::size_t k = 1; k < run.stages.size(); ++k)
+    if (build_contact<D>(*run.stages[k].config, m).active()) return true;
+  return false;
+}
+
+template bool contact_in_some_stage<2>(const Model<2>&, const Config&);
+template bool contact_in_some_stage<3>(const Model<3>&, const Config&);
 template void check_stages<2>(const Model<2>&, const Config&);
 template void check_stages<3>(const Model<3>&, const Config&);
 template void move_bodies<2>(Particles<2>&, Particles<2>&, const std::vector<std::int32_t>&);

@@ -52,7 +52,14 @@ void restore_stage(Model<D>& m, const Config& run, std::size_t k, const std::vec
 template <int D>
 void check_stages(const Model<D>& m, const Config& run);
 
+// Whether contact acts in some stage of `run` (the model's own, or a later stage's pairs and
+// frictional faces): global.csv then has its contact_nodes column from the start.
+template <int D>
+bool contact_in_some_stage(const Model<D>& m, const Config& run);
+
 extern template void check_stages<2>(const Model<2>&, const Config&);
+extern template bool contact_in_some_stage<2>(const Model<2>&, const Config&);
+extern template bool contact_in_some_stage<3>(const Model<3>&, const Config&);
 extern template void check_stages<3>(const Model<3>&, const Config&);
 extern template void move_bodies<2>(Particles<2>&, Particles<2>&, const std::vector<std::int32_t>&);
 extern template void move_bodies<3>(Particles<3>&, Particles<3>&, const std::vector<std::int32_t>&);

@@ -241,16 +241,17 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
 
   std::optional<OutputWriter<D>> out;
   if (options.write_output) {
-    out.emplace(model, oc, dir, recorder_names, options.restart ? &start.output : nullptr, staged);
+    out.emplace(model, oc, dir, recorder_names, options.restart ? &start.output : nullptr, staged,
+                contact_in_some_stage(model, config));
     out->set_stage(static_cast<int>(stage) + 1);
     prepare_checkpoint_directory(ck_path);  // a checkpoint hours later must not be the first to find it unwritable
   }
   // Frames are labelled by time, or by the value of the output.frame_label recorder.
   const Recorder<D>* label = oc.frame_label_recorder >= 0 ? &recorders[static_cast<std::size_t>(oc.frame_label_recorder)] : nullptr;
-  const bool contact = model.contact.active();
   bool label_warned = false;
   auto write_frame = [&](double time) {
     ContactPoints points;
+    const bool contact = model.contact.active();  // a stage may start or end it
     if (contact)
       for (const auto& n : solver->contact_nodes()) {
         std::array<double, 3> x{}, normal{}, force{};

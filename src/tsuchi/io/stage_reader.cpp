@@ -403,6 +403,9 @@ void read_fos(Section& s, Config& c) {
   f.unbalanced_force_ratio = s.number("unbalanced_force_ratio", "a tolerance in (0, 1)",
                                       [](double x) { return x > 0.0 && x < 1.0; }, 1e-3);
   f.displacement_limit = s.optional_number("displacement_limit", "a positive displacement in m", [](double x) { return x > 0.0; });
+  f.extend = s.integer("extend", "a whole number from 1 to 100: the most budget, in multiples of max_steps, that a "
+                                 "trial still slowing down may take",
+                       [](std::int64_t n) { return n >= 1 && n <= 100; }, 4);
   f.trials_at_once = static_cast<int>(s.integer("trials_at_once", "a whole number from 1 to 64",
                                                 [](std::int64_t n) { return n >= 1 && n <= 64; }, 2));
   s.finish();

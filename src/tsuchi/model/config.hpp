@@ -342,6 +342,9 @@ struct FosConfig {
   double unbalanced_force_ratio = 1e-3;  // a trial is in equilibrium below this ratio (near failure it levels off at 1e-3 to 1e-2)
   std::optional<double> displacement_limit;  // a trial fails once a particle moves more than this (m)
   int trials_at_once = 2;                // trials per round (bisection for 1); the same on any thread count
+  // A trial still slowing down at max_steps may go on, a fifth of max_steps at a time, up to this
+  // many times max_steps (run/factor_of_safety.cpp); 1: judged at max_steps.
+  std::int64_t extend = 4;
   // The fewest steps a trial may be given: its ratio is judged from its 20th step
   // (equilibrium_first_step, run/simulation.hpp) and its rest over its last fifth, which must then
   // start after that (fos.max_steps = 1 gave "the ground stands at F = 64").

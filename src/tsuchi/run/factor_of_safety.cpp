@@ -43,15 +43,25 @@ FosTrial run_trial(const Model<D>& base, const Config& during, const FosConfig& 
   solver.resume(t0, steps0);
   FosTrial t;
   t.factor = F;
-  const std::int64_t late = f.max_steps - f.max_steps / 5;  // the last fifth starts here
-  double at_late = 0.0;
+  // The verdict at the budget's end comes from the trend of the movement (issue 41, defect 7): the
+  // largest displacement sampled every fifth of fos.max_steps from two fifths before its end, so the
+  // growth over the last window (g) and the one before (g_prev) are known there. A trial that has
+  // not stood or failed by then and is still slowing down (g < 0.8 g_prev: the movement falls by a
+  // fifth or more per window, a creep coming to rest) is given another window, up to
+  // fos.extend x max_steps; a trial moving steadily or faster fails. A fixed window alone stood
+  // the same slope at one budget and failed it at the next.
+  const std::int64_t window = std::max<std::int64_t>(1, f.max_steps / 5);
+  const std::int64_t first_sample = f.max_steps - 2 * window;
+  const std::int64_t cap = f.max_steps * f.extend;
+  std::int64_t budget = f.max_steps;
+  std::vector<double> samples;  // D at first_sample, first_sample + window, ...
   auto max_displacement = [&] {
     double most = 0.0;
     for (const auto& u : m.particles.u_p) most = std::max(most, u.squaredNorm());
     return std::sqrt(most);
   };
   try {
-    for (std::int64_t n = 1; n <= f.max_steps; ++n) {
+    for (std::int64_t n = 1; n <= budget; ++n) {
       const double dt = next_time_step(during.time, critical_time_step<D>(m.particles, m.materials, m.grid.h),
                                        solver.steps(), during.source);
       solver.step(dt);
@@ -68,17 +78,24 @@ FosTrial run_trial(const Model<D>& base, const Config& during, const FosConfig& 
         t.reason = "equilibrium";
         break;
       }
-      if (n == late) at_late = t.max_displacement;
+      if (n >= first_sample && (n - first_sample) % window == 0) samples.push_back(t.max_displacement);
+      if (n == budget && samples.size() >= 3) {
+        const double g = samples.back() - samples[samples.size() - 2];
+        const double g_prev = samples[samples.size() - 2] - samples[samples.size() - 3];
+        t.late_growth = g;
+        const bool resting = f.displacement_limit && g < 0.01 * *f.displacement_limit;
+        if (!resting && f.displacement_limit && g < 0.8 * g_prev && budget + window <= cap) budget += window;
+      }
     }
   } catch (const RunError& e) {
     // A collapse may carry particles out of the grid or crush them: a failure, not a fault.
     t.failed = true, t.reason = fmt::format("run fault ({})", e.what());
   }
   if (t.reason.empty()) {
-    t.late_growth = t.max_displacement - at_late;
-    const bool at_rest = f.displacement_limit && t.max_displacement - at_late < 0.01 * *f.displacement_limit;
+    const bool at_rest = f.displacement_limit && t.late_growth < 0.01 * *f.displacement_limit;
     t.failed = !at_rest;
-    t.reason = at_rest ? "at rest at max_steps" : "max_steps";
+    const std::string when = budget > f.max_steps ? fmt::format(" (slowing: extended to {} steps)", budget) : "";
+    t.reason = (at_rest ? "at rest at max_steps" : "max_steps") + when;
   }
   frame = vtu_document<D>(m, fields);
   t.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
@@ -222,13 +239,14 @@ FosResult factor_of_safety(const Config& config, Model<D> model, const FosOption
     if (it->factor != hi || !it->failed) continue;
     const bool short_of_limit =
         !f.displacement_limit || it->max_displacement + 5.0 * it->late_growth < *f.displacement_limit;
-    if (it->reason == "max_steps" && short_of_limit)
+    if (it->reason.rfind("max_steps", 0) == 0 && short_of_limit)
       result.bound = fmt::format(
-          "the trial at F = {:.6g} failed only by running out of steps (fos.max_steps = {}) with {:.3g} m of "
+          "the trial at F = {:.6g} failed only by running out of steps (fos.max_steps = {}{}) with {:.3g} m of "
           "movement{}, {:.3g} m of it in its last fifth: at that rate it would not reach the limit in as many steps "
           "again, so it was creeping, not collapsing, F = {:.6g} is a lower bound and the factor may be higher; "
           "raise fos.max_steps (say to {}) until the factor stops changing",
-          hi, f.max_steps, it->max_displacement,
+          hi, f.max_steps, it->steps > f.max_steps ? fmt::format(", slowing, extended to {}", it->steps) : std::string{},
+          it->max_displacement,
           f.displacement_limit ? fmt::format(" against a limit of {:.3g} m", *f.displacement_limit) : std::string{},
           it->late_growth, lo, 4 * f.max_steps);
     break;

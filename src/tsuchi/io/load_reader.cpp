@@ -59,8 +59,8 @@ void read_traction(Section& s, const Config& c, LoadConfig& l) {
                                             "and 'pressure' (Pa, positive pushing into the body)");
   if (s.has("traction")) {
     l.vector = s.vector("traction", dim, "a traction in Pa", any);
-    // A traction in global axes has no surface to follow: it stays dead.
-    if (s.has("follow"))
+    // A traction in global axes has no surface to follow: it stays dead (`follow = false` is allowed).
+    if (s.boolean("follow", false))
       s.fail("follow", "a 'traction' is given in global axes and stays a dead load; expected 'follow' only with "
                        "'pressure' (a pressure that follows the deformed surface's normal and area)");
   } else {

@@ -166,6 +166,85 @@ TEST(Restart, MohrCoulombTriaxialContinuesBitwise) {
 
 // Modified Cam-Clay's state (p_c, v, the stiffness of the time step) is in the checkpoint: a
 // block squeezed undrained from 200 kPa, split while it yields, continues bitwise.
+// A follower pressure's forces follow the deformation (eq N1): state that the checkpoint holds.
+// The cavity of examples/cavity_expansion at 0.25 m cells, split inside the ramp.
+TEST(Restart, FollowerPressureContinuesBitwise) {
+  const TempDir tmp("tsuchi_follow_restart_");
+  const Case c{std::string(TSUCHI_SOURCE_DIR) + "/examples/cavity_expansion/cavity.toml",
+               {"grid.cell_size=0.25", "loads.0.max=[1.125,1.125]", "output.interval=0.1"}};
+  expect_bitwise_restart(c, tmp, 137, 300);
+}
+
+// Stages with follower pressures: the first stage's load follows through the stage, the second
+// rebuilds the loads (another pressure, reconfigure) and follows from its start; split in each.
+TEST(Restart, StagedFollowerPressureContinuesBitwise) {
+  const TempDir tmp("tsuchi_follow_restart_");
+  write_file(tmp.path / "block.toml", R"([model]
+dimension = 2
+
+[[functions]]
+name = "ramp"
+table = [[0.0, 0.0], [0.1, 1.0]]
+
+[grid]
+extent = [0.6, 1.2]
+cell_size = 0.05
+
+[[materials]]
+name = "m"
+model = "linear_elastic"
+density = 1000.0
+youngs_modulus = 1.0e6
+poisson_ratio = 0.3
+
+[[bodies]]
+name = "block"
+material = "m"
+min = [0.0, 0.0]
+max = [0.4, 1.0]
+particles_per_cell = 2
+
+[[loads]]
+kind = "traction"
+body = "block"
+plane = { point = [0.0, 1.0], normal = [0.0, 1.0] }
+pressure = 0.02e6
+function = "ramp"
+follow = true
+
+[boundary]
+x_min = "roller"
+y_min = "roller"
+
+[solver]
+damping = 0.3
+
+[output]
+interval = 0.02
+
+[[stages]]
+name = "first"
+duration = 0.15
+
+[[stages]]
+name = "second"
+duration = 0.3
+[[stages.loads]]                 # built on the particles of the stage's start: the top row's
+kind = "traction"                # centres are then near y = 0.97
+body = "block"
+plane = { point = [0.0, 0.98], normal = [0.0, 1.0] }
+pressure = 0.2e6
+function = "ramp"
+follow = true
+)");
+  const Case c{(tmp.path / "block.toml").string(), {}};
+  for (const std::int64_t split : {97, 351}) {
+    SCOPED_TRACE(split);
+    const TempDir run("tsuchi_follow_staged_");
+    expect_bitwise_restart(c, run, split, 500);
+  }
+}
+
 TEST(Restart, ModifiedCamClayContinuesBitwise) {
   TempDir tmp("tsuchi_restart");
   write_file(tmp.path / "clay.toml", kCamClayUndrainedBlock + R"(

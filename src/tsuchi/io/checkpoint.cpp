@@ -181,6 +181,12 @@ void check_particles(const Particles<D>& p, const Model<D>& model, const Decoder
   }
 }
 
+// Whether the checkpoint holds the surface loads (sections surface_loads, load.K.*).
+template <int D>
+bool holds_surface_loads(const Model<D>& model) {
+  return model.staged || model.loads.any_follower();
+}
+
 }  // namespace
 
 template <int D>
@@ -217,7 +223,10 @@ void write_checkpoint(const std::string& path, const Model<D>& model, const RunP
   e.scalar("stage_first_frame", r.stage_first_frame);
   e.scalar("stages_csv_bytes", r.output.stages_bytes);
   e.scalar("stages_csv_crc", r.output.stages_crc);
-  if (model.staged) {
+  // A staged run's surface loads were built on the particles of its stage's start, and a follower
+  // pressure's forces have followed the deformation since (eq N1): both are state. A run with
+  // neither rebuilds its loads from the input and writes no such section.
+  if (holds_surface_loads(model)) {
     e.scalar("surface_loads", static_cast<std::uint64_t>(model.loads.surface.size()));
     for (std::size_t l = 0; l < model.loads.surface.size(); ++l) {
       e.array(fmt::format("load.{}.id", l), model.loads.surface[l].id);
@@ -327,7 +336,7 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
       in.fail("a frame entry is not a plain file name and time");
     r.output.frames.emplace_back(t, name);
   }
-  if (model.staged) {
+  if (holds_surface_loads(model)) {
     const auto loads = in.scalar<std::uint64_t>("surface_loads");
     if (loads != model.loads.surface.size()) in.fail("it holds another number of surface loads than the input's stage");
     for (std::size_t l = 0; l < model.loads.surface.size(); ++l) {
@@ -337,6 +346,8 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
       in.array(fmt::format("load.{}.force", l), load.force, n);
       for (const std::int64_t id : load.id)
         if (id < 0 || id >= model.id_count) in.fail("a surface load names a particle that does not exist");
+      for (const Vec<D>& F : load.force)
+        if (!F.allFinite()) in.fail("a surface load's force is not finite");
     }
   }
   model.particles = std::move(p);

@@ -59,9 +59,14 @@ void read_traction(Section& s, const Config& c, LoadConfig& l) {
                                             "and 'pressure' (Pa, positive pushing into the body)");
   if (s.has("traction")) {
     l.vector = s.vector("traction", dim, "a traction in Pa", any);
+    // A traction in global axes has no surface to follow: it stays dead (`follow = false` is allowed).
+    if (s.boolean("follow", false))
+      s.fail("follow", "a 'traction' is given in global axes and stays a dead load; expected 'follow' only with "
+                       "'pressure' (a pressure that follows the deformed surface's normal and area)");
   } else {
     l.pressure_given = true;
     l.pressure = s.number("pressure", "a pressure in Pa (positive pushes into the body)", any);
+    l.follow = s.boolean("follow", false);
   }
 }
 
@@ -88,6 +93,9 @@ void read_loads(Section& top, Config& c) {
     l.kind = static_cast<LoadConfig::Kind>(s.choice("kind", {"traction", "nodal_force", "body_force"}, -1));
     if (!s.has("kind")) s.need("kind", "one of \"traction\", \"nodal_force\" and \"body_force\"");
     l.where = prefix(s, "kind");
+    if (l.kind != LoadConfig::Kind::Traction && s.has("follow"))
+      s.fail("follow", "expected 'follow' only on a pressure (kind = \"traction\" with 'pressure'): a node-set or "
+                       "body force has no surface to follow");
     switch (l.kind) {
       case LoadConfig::Kind::Traction: read_traction(s, c, l); break;
       case LoadConfig::Kind::NodalForce: read_nodal_force(s, c, l); break;

@@ -187,6 +187,7 @@ struct LoadConfig {
   Triple plane_point{}, plane_normal{};
   bool pressure_given = false;       // traction: pressure (Pa, pushing inwards) instead of a traction vector
   double pressure = 0.0;
+  bool follow = false;               // pressure: a follower load (area vectors by Nanson's relation, solver/follower_area.hpp)
   Triple vector{};                   // traction (Pa), nodal_force's total force (N; N/m in 2D), body_force (N/m^3)
 };
 

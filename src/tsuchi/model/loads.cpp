@@ -104,6 +104,7 @@ ParticleLoad<D> surface_load(const Config& c, const LoadConfig& load, const Part
   ParticleLoad<D> sorted;
   for (const std::size_t k : order) sorted.id.push_back(out.id[k]), sorted.force.push_back(out.force[k]);
   if (load.function >= 0) sorted.function = c.functions[static_cast<std::size_t>(load.function)].f;
+  sorted.follow = load.follow;
   return sorted;
 }
 

@@ -9,7 +9,9 @@
 // particle of the same body; its exposed faces give the area vector a_p = sum n_face A_face, with
 // A_face the product of the particle's other edge lengths (times 1 m of thickness in 2D).
 //   pressure p:  F_p = -p a_p            traction t:  F_p = t |a_p|
-// Dead loads: areas and directions are those of the initial lattice (see docs/input.md).
+// A dead load keeps the areas and directions of the initial lattice; a follower pressure
+// (`follow = true`) turns and stretches each a_p with its particle's deformation by Nanson's
+// relation, step by step (solver/follower_area.hpp, eq N1; docs/input.md).
 #include "tsuchi/core/time_function.hpp"
 #include "tsuchi/core/tensor.hpp"
 #include "tsuchi/grid/grid.hpp"
@@ -26,7 +28,10 @@ template <int D>
 struct ParticleLoad {
   TimeFunction function;
   std::vector<std::int64_t> id;  // the loaded particles by Particles::id_p, increasing
-  std::vector<Vec<D>> force;     // force on each at f = 1 (N; N/m in 2D)
+  std::vector<Vec<D>> force;     // force on each at f = 1 (N; N/m in 2D): -p a_p, or t |a_p|
+  // A follower pressure: `force` is -p a_p of the current a_p, carried through every step by eq N1
+  // (LoadStage::follow); it is then state, and checkpoints hold it.
+  bool follow = false;
 };
 
 // Forces on grid nodes (a point or line load shared over a node set).
@@ -51,6 +56,11 @@ struct Loads {
   std::vector<NodalLoad<D>> nodal;
   std::vector<BodyForceLoad<D>> body;
   bool empty() const { return surface.empty() && nodal.empty() && body.empty(); }
+  bool any_follower() const {
+    for (const auto& l : surface)
+      if (l.follow) return true;
+    return false;
+  }
 };
 
 // The exposed faces of every particle of body `body` (0 for other bodies' particles), from the

@@ -89,6 +89,39 @@ void ExplicitSolver<D>::restore_free_rigid_bodies() {
   }
 }
 
+// L = sum_i v_i G_ip^T at each follower-loaded particle, gathered as update_stress gathers it (the
+// same nodal velocities, stencil and order of the sums, so the same bits); a rigid body's particle
+// takes its prescribed motion's gradient, as there. O(loaded particles), after the step's loads.
+template <int D>
+template <class Kernel>
+void ExplicitSolver<D>::follow_loads(double dt, FieldArray v_strain) {
+  if (!loads_.follows()) return;
+  struct Sums {
+    Vec<D> w, dw;  // sums along x of wx v and dwx v
+  };
+  loads_.follow(m_.loads, dt, [&](std::size_t i) -> Mat<D> {
+    const auto field = static_cast<std::size_t>(field_of(i));
+    if (rigid_field_[field]) {
+      const auto body = static_cast<std::size_t>(m_.particles.body_p[i]);
+      return motion_scale_[body] * m_.motion[body].grad;
+    }
+    const Vec<D>* const v_g = (m_.grid.fields[field].*v_strain).data();
+    const Stencil<D, Kernel> st = stencil_of<Kernel>(i);
+    Mat<D> L = Mat<D>::Zero();
+    st.gather(
+        Sums{Vec<D>::Zero(), Vec<D>::Zero()},
+        [&](Sums& row, std::int64_t k, double w, double dw) {
+          row.w += w * v_g[k];
+          row.dw += dw * v_g[k];
+        },
+        [&](const Sums& row, double T, const std::array<double, D - 1>& dT) {
+          L.col(0) += T * row.dw;
+          for (int d = 1; d < D; ++d) L.col(d) += dT[d - 1] * row.w;
+        });
+    return L;
+  });
+}
+
 template <int D>
 template <class Kernel>
 void ExplicitSolver<D>::step_with(double dt) {
@@ -136,6 +169,7 @@ void ExplicitSolver<D>::step_with(double dt) {
       update_stress<Kernel, AfterStress::Stay>(dt, v);
       p2g<Kernel, Scatter::Force, How>();
       apply_loads<Kernel>();
+      follow_loads<Kernel>(dt, v);  // after the loads of the step are applied
       solve_grid(dt);
       g2p<Kernel, AfterGather::Move, How>(dt);
       break;
@@ -145,6 +179,7 @@ void ExplicitSolver<D>::step_with(double dt) {
       nodal_velocity_and_solve<Momentum::Keep>(dt);
       g2p<Kernel, AfterGather::None, How>(dt);
       update_stress<Kernel, AfterStress::Move>(dt, vL);
+      follow_loads<Kernel>(dt, vL);
       break;
     case Scheme::MUSL:
       p2g<Kernel, Scatter::All, How>();
@@ -153,6 +188,7 @@ void ExplicitSolver<D>::step_with(double dt) {
       g2p<Kernel, AfterGather::Remap, How>(dt);
       nodal_velocity(At::End);
       update_stress<Kernel, AfterStress::Move>(dt, v);
+      follow_loads<Kernel>(dt, v);
       break;
   }
   report_faults();

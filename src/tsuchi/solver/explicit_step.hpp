@@ -153,6 +153,9 @@ class ExplicitSolver {
   using FieldArray = std::vector<Vec<D>> NodalField<D>::*;  // &NodalField::v or &NodalField::vL
   template <class Kernel, AfterStress Then> void update_stress(double dt, FieldArray v_strain);
   template <class Kernel> void average_volumetric_strain(double dt, FieldArray v_strain);
+  // Follower pressures through the step (LoadStage::follow), from the velocity gradient the stress
+  // update takes: the same nodal velocities v_strain and the step's stencils.
+  template <class Kernel> void follow_loads(double dt, FieldArray v_strain);
   template <class Kernel> bool average_pressure();
   // Whether particle i's force takes the averaged pressure (eq V5): its material asks for "bbar"
   // and it is not in a rigid body's field (which takes no remedy, as in update_stress).

@@ -15,9 +15,13 @@
 // every node sums in a fixed order; the loaded boundary particles are few, and are added by one
 // thread in the order of their ids, whatever their storage order. Their storage indices are looked
 // up again whenever the particles have been reordered (the periodic sort, a restart).
+//
+// A follower pressure's forces -p a_p then follow the step's deformation (follow(), eq N1 of
+// solver/follower_area.hpp), after the step has used them: the force of step n is that of a_n.
 #include "tsuchi/grid/block_schedule.hpp"
 #include "tsuchi/model/loads.hpp"
 #include "tsuchi/shape/stencil.hpp"
+#include "tsuchi/solver/follower_area.hpp"
 
 #include <algorithm>
 #include <vector>
@@ -30,6 +34,7 @@ class LoadStage {
   // The factors f(t) of the step starting at t, and the loaded particles' storage indices.
   void begin_step(const Loads<D>& loads, const Particles<D>& p, std::size_t bodies, double t) {
     active_ = !loads.empty();
+    follows_ = active_ && loads.any_follower();
     if (!active_) return;
     surface_f_.clear(), nodal_f_.clear();
     for (const auto& l : loads.surface) surface_f_.push_back(l.function(t));
@@ -87,6 +92,24 @@ class LoadStage {
     }
   }
 
+  // Whether some surface load of this step follows the deformation.
+  bool follows() const { return follows_; }
+
+  // Each follower pressure's force on each of its particles i through the step: -p a_p turned and
+  // stretched by dF = I + dt L (eq N1), L = L_at(i) the velocity gradient at the particle. One
+  // thread over the loaded particles only (each entry updated from its own particle's L, so the
+  // order does not matter); nothing when no load follows.
+  template <class Gradient>
+  void follow(Loads<D>& loads, double dt, Gradient&& L_at) const {
+    if (!follows_) return;
+    for (std::size_t l = 0; l < loads.surface.size(); ++l) {
+      auto& load = loads.surface[l];
+      if (!load.follow) continue;
+      for (std::size_t e = 0; e < load.id.size(); ++e)
+        load.force[e] = follow_area<D>(load.force[e], L_at(index_[l][e]), dt);
+    }
+  }
+
  private:
   template <class Kernel>
   static void spread(const Grid<D>& g, const typename Stencil<D, Kernel>::Axes& axes, const Vec<D>& F, Vec<D>* f_g) {
@@ -127,6 +150,7 @@ class LoadStage {
   }
 
   bool active_ = false;
+  bool follows_ = false;  // some surface load follows the deformation
   bool body_force_ = false;
   std::vector<double> surface_f_, nodal_f_;   // f(t) of each load this step
   std::vector<Vec<D>> body_a_;                // per body: sum of f(t) b / rho

@@ -537,6 +537,9 @@ void read_grid_fields(Section& s, OutputConfig& o) {
         s.fail("grid_fields", fmt::format("field \"{}\" is listed twice", str->get()));
       o.grid_fields.push_back(str->get());
     }
+  } else if (const auto one = n->as_string()) {
+    s.fail("grid_fields", fmt::format("expected true, false or an array of field names, got {}: one field is an "
+                                      "array of one, [\"{}\"]", describe(*n), printable(one->get())));
   } else {
     s.fail("grid_fields", fmt::format("expected true, false or an array of {}, got {}", expected, describe(*n)));
   }

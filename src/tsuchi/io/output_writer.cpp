@@ -59,7 +59,8 @@ bool is_output_file_name(const std::string& name) {
   return name == "particles.pvd" || name == "particles_view.py" || name == "global.csv" || name == "recorders.csv" || name == "stages.csv" ||
          name == "contact.pvd" || name == "grid.pvd" || name == DirectoryLock::file_name || is_frame_file_name(name) ||
          is_grid_frame_file_name(name) ||
-         is_numbered_name(name, "contact_", 1, ".vtu") || is_numbered_name(name, "particles_stage", 1, ".pvd");
+         is_numbered_name(name, "contact_", 1, ".vtu") || is_numbered_name(name, "particles_stage", 1, ".pvd") ||
+         is_numbered_name(name, "grid_stage", 1, ".pvd");
 }
 
 void check_output_paths(const Config& c, const std::string& directory, const std::string& checkpoint) {
@@ -176,10 +177,13 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output,
                               : grid_frame                   ? "particles_" + name.substr(5)
                                                              : name;
     const bool listed = std::any_of(h_.frames.begin(), h_.frames.end(), [&](const auto& f) { return f.second == frame; });
-    bool stage_pvd = name.rfind("particles_stage", 0) == 0 && name.size() > 19 &&
+    // particles_stageN.pvd, and grid_stageN.pvd with the grid frames.
+    const bool grid_stage = name.rfind("grid_stage", 0) == 0;
+    const std::size_t head = grid_stage ? 10 : 15;
+    bool stage_pvd = (grid_stage || name.rfind("particles_stage", 0) == 0) && name.size() > head + 4 &&
                      name.compare(name.size() - 4, 4, ".pvd") == 0;
-    if (stage_pvd && resume) {
-      const std::string digits = name.substr(15, name.size() - 19);
+    if (stage_pvd && resume && !(grid_stage && output_.grid_fields.empty())) {
+      const std::string digits = name.substr(head, name.size() - head - 4);
       const bool number = std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return c >= '0' && c <= '9'; });
       stage_pvd = number && digits.size() < 10 && std::stoll(digits) > stages_ended;  // stale: remove
     }
@@ -265,6 +269,14 @@ void OutputWriter<D>::stage_row(const StageRow& r) {
     const std::vector<std::pair<double, std::string>> frames(h_.frames.begin() + r.first_frame,
                                                              h_.frames.begin() + r.last_frame + 1);
     write_file_atomically(fmt::format("{}/particles_stage{}.pvd", dir_, r.stage), pvd_document(frames));
+    // The stage's grid frames, those of its frames that have one (a restart may switch them on).
+    std::vector<std::pair<double, std::string>> grid;
+    for (const auto& f : frames) {
+      const std::string grid_name = grid_frame_name(f.second);
+      if (std::any_of(grid_frames_.begin(), grid_frames_.end(), [&](const auto& g) { return g.second == grid_name; }))
+        grid.emplace_back(f.first, grid_name);
+    }
+    if (!grid.empty()) write_file_atomically(fmt::format("{}/grid_stage{}.pvd", dir_, r.stage), pvd_document(grid));
   }
   flush_global();
 }

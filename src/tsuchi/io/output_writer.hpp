@@ -7,7 +7,8 @@
 //   global.csv            time series of whole-model quantities
 //   recorders.csv         time series of the input's recorders (when it has any), same rows
 //   stages.csv            staged runs: a row per stage ended (docs/stages.md), and
-//   particles_stageN.pvd  the frames of stage N; global.csv and recorders.csv get a `stage` column
+//   particles_stageN.pvd  the frames of stage N (grid_stageN.pvd their grid frames); global.csv and
+//                         recorders.csv get a `stage` column
 // Frames and the .pvd are replaced atomically; the CSVs grow by whole rows. A run holds a lock on
 // the directory (io/output_lock.hpp), and removes the frames of an earlier run there, so that
 // the directory only ever shows one run.

@@ -16,6 +16,7 @@
 #include "tsuchi/io/element_reader.hpp"
 #include "tsuchi/io/output_writer.hpp"
 #include "tsuchi/io/vtu_writer.hpp"
+#include "tsuchi/io/grid_vtu_writer.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/model/model.hpp"
 #include "tsuchi/model/stage_change.hpp"
@@ -161,7 +162,15 @@ void print_summary(const Config& c, const Model<D>& m, const std::string& output
                c.output.interval > 0 ? fmt::format(" and every {} s", c.output.interval) : std::string{});
   } else {
     if (c.fos.given) print_fos(c);
-    print_length(c, dt, output_dir, c.output.write_frames ? vtu_size<D>(m, c.output.fields) : 0.0);
+    double frame_bytes = c.output.write_frames ? vtu_size<D>(m, c.output.fields) : 0.0;
+    if (!c.output.grid_fields.empty()) {
+      // The grid frame of the start (output.grid_fields); it grows where the material spreads.
+      const GridFrameSize g = grid_vtu_size<D>(m, c.output.grid_fields);
+      say("grid frame {} nodes with mass, {} cells, about {} at the start (grid_NNNNNN.vtu)\n", g.points,
+          g.cells, app::byte_size(g.bytes));
+      frame_bytes += g.bytes;
+    }
+    print_length(c, dt, output_dir, frame_bytes);
   }
   say("memory     about {:.1f} MB\n", static_cast<double>(m.bytes()) / 1e6);
   say("threads    {}\n", omp_get_max_threads());

@@ -14,6 +14,7 @@
 #include "tsuchi/io/particle_file_reader.hpp"
 #include "tsuchi/io/shape_reader.hpp"
 #include "tsuchi/io/toml_section.hpp"
+#include "tsuchi/solver/grid_projection.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -515,6 +516,38 @@ void read_time(Section& s, Config& c, bool staged) {
   s.finish();
 }
 
+// output.grid_fields: true (the usual set), false, or the names of fields to project to the grid
+// (solver/grid_projection.hpp).
+void read_grid_fields(Section& s, OutputConfig& o) {
+  const toml::node* n = s.get("grid_fields");
+  if (!n) return;
+  o.grid_fields_where = where(s.file(), n->source());
+  const std::string expected = fmt::format("field names from {}", quoted_list(projectable_field_names()));
+  if (const auto b = n->as_boolean()) {
+    if (b->get()) o.grid_fields = {"velocity", "displacement", "stress", "strain", "max_shear_strain"};
+  } else if (const auto a = n->as_array()) {
+    for (const auto& e : *a) {
+      const auto str = e.as_string();
+      const ParticleField* f = str ? find_particle_field(str->get()) : nullptr;
+      if (f && (f->quantity == Quantity::Mass || f->quantity == Quantity::Density))
+        s.fail("grid_fields", fmt::format("\"{}\" is in every grid frame (the nodal mass m_i and density m_i / V_i); "
+                                          "expected {}", str->get(), expected));
+      if (!f || !is_projectable_field(*f)) s.fail("grid_fields", fmt::format("expected {}, got {}", expected, describe(e)));
+      if (std::find(o.grid_fields.begin(), o.grid_fields.end(), str->get()) != o.grid_fields.end())
+        s.fail("grid_fields", fmt::format("field \"{}\" is listed twice", str->get()));
+      o.grid_fields.push_back(str->get());
+    }
+  } else if (const auto one = n->as_string()) {
+    s.fail("grid_fields", fmt::format("expected true, false or an array of field names, got {}: one field is an "
+                                      "array of one, [\"{}\"]", describe(*n), printable(one->get())));
+  } else {
+    s.fail("grid_fields", fmt::format("expected true, false or an array of {}, got {}", expected, describe(*n)));
+  }
+  if (!o.grid_fields.empty() && !o.write_frames)
+    s.fail("grid_fields", "grid frames go with the particle frames, and 'frames = false' writes none: set frames = "
+                          "true or leave grid_fields out");
+}
+
 void read_output(Section& s, Config& c) {
   auto& o = c.output;
   o.directory = s.string("directory", "a directory path", o.directory);
@@ -550,6 +583,7 @@ void read_output(Section& s, Config& c) {
       if (used) o.fields.push_back(name);
     }
   }
+  read_grid_fields(s, o);
   s.finish();
 }
 

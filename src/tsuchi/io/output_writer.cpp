@@ -4,8 +4,10 @@
 
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/io/atomic_file.hpp"
+#include "tsuchi/io/grid_vtu_writer.hpp"
 #include "tsuchi/io/vtu_writer.hpp"
 #include "tsuchi/solver/global_quantities.hpp"
+#include "tsuchi/solver/grid_projection.hpp"
 
 #include <fmt/format.h>
 
@@ -44,14 +46,21 @@ bool same_path(const fs::path& a, const fs::path& b) {
   return normal(a) == normal(b);
 }
 
+// grid_NNNNNN.vtu of particles_NNNNNN.vtu.
+std::string grid_frame_name(const std::string& frame) { return "grid_" + frame.substr(std::string("particles_").size()); }
+
 }  // namespace
 
 bool is_frame_file_name(const std::string& name) { return is_numbered_name(name, "particles_", 6, ".vtu"); }
 
+bool is_grid_frame_file_name(const std::string& name) { return is_numbered_name(name, "grid_", 6, ".vtu"); }
+
 bool is_output_file_name(const std::string& name) {
   return name == "particles.pvd" || name == "particles_view.py" || name == "global.csv" || name == "recorders.csv" || name == "stages.csv" ||
-         name == "contact.pvd" || name == DirectoryLock::file_name || is_frame_file_name(name) ||
-         is_numbered_name(name, "contact_", 1, ".vtu") || is_numbered_name(name, "particles_stage", 1, ".pvd");
+         name == "contact.pvd" || name == "grid.pvd" || name == DirectoryLock::file_name || is_frame_file_name(name) ||
+         is_grid_frame_file_name(name) ||
+         is_numbered_name(name, "contact_", 1, ".vtu") || is_numbered_name(name, "particles_stage", 1, ".pvd") ||
+         is_numbered_name(name, "grid_stage", 1, ".pvd");
 }
 
 void check_output_paths(const Config& c, const std::string& directory, const std::string& checkpoint) {
@@ -163,25 +172,40 @@ OutputWriter<D>::OutputWriter(const Model<D>& model, const OutputConfig& output,
   }
   for (const auto& entry : fs::directory_iterator(dir_, ec)) {
     const std::string name = entry.path().filename().string();
-    // contact_NNNNNN.vtu goes with particles_NNNNNN.vtu: kept while that frame is listed.
-    const std::string frame = name.rfind("contact_", 0) == 0 ? "particles_" + name.substr(8) : name;
+    // contact_NNNNNN.vtu and grid_NNNNNN.vtu go with particles_NNNNNN.vtu: kept while that frame
+    // is listed (grid frames only by a run that writes them).
+    const bool grid_frame = is_grid_frame_file_name(name);
+    const std::string frame = name.rfind("contact_", 0) == 0 ? "particles_" + name.substr(8)
+                              : grid_frame                   ? "particles_" + name.substr(5)
+                                                             : name;
     const bool listed = std::any_of(h_.frames.begin(), h_.frames.end(), [&](const auto& f) { return f.second == frame; });
-    bool stage_pvd = name.rfind("particles_stage", 0) == 0 && name.size() > 19 &&
+    // particles_stageN.pvd, and grid_stageN.pvd with the grid frames.
+    const bool grid_stage = name.rfind("grid_stage", 0) == 0;
+    const std::size_t head = grid_stage ? 10 : 15;
+    bool stage_pvd = (grid_stage || name.rfind("particles_stage", 0) == 0) && name.size() > head + 4 &&
                      name.compare(name.size() - 4, 4, ".pvd") == 0;
-    if (stage_pvd && resume) {
-      const std::string digits = name.substr(15, name.size() - 19);
+    if (stage_pvd && resume && !(grid_stage && output_.grid_fields.empty())) {
+      const std::string digits = name.substr(head, name.size() - head - 4);
       const bool number = std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return c >= '0' && c <= '9'; });
       stage_pvd = number && digits.size() < 10 && std::stoll(digits) > stages_ended;  // stale: remove
     }
     if ((is_frame_file_name(frame) && !listed) || (name == "recorders.csv" && recorders_.empty()) ||
         (name == "stages.csv" && !staged_) || stage_pvd ||
-        (name == "contact.pvd" && (h_.frames.empty() || !contact)))
+        (name == "contact.pvd" && (h_.frames.empty() || !contact)) ||
+        ((grid_frame || name == "grid.pvd") && output_.grid_fields.empty()))
       fs::remove(entry.path(), ec);
   }
   for (const auto& [label, name] : h_.frames) {
     const std::string own = "contact_" + name.substr(std::string("particles_").size());
     if (contact && fs::exists(fs::path(dir_) / own, ec)) contact_frames_.emplace_back(label, own);
   }
+  // The grid frames of the frames listed, where there is one (a restart may switch grid_fields on).
+  if (!output_.grid_fields.empty())
+    for (const auto& [t, name] : h_.frames)
+      if (const std::string grid = grid_frame_name(name); fs::exists(fs::path(dir_) / grid, ec))
+        grid_frames_.emplace_back(t, grid);
+  if (grid_frames_.empty()) fs::remove(dir_ + "/grid.pvd", ec);
+  else write_file_atomically(dir_ + "/grid.pvd", pvd_document(grid_frames_));
   const std::string pvd = dir_ + "/particles.pvd";
   if (h_.frames.empty()) fs::remove(pvd, ec), fs::remove(dir_ + "/particles_view.py", ec);
   else write_file_atomically(pvd, pvd_document(h_.frames));
@@ -195,12 +219,21 @@ void OutputWriter<D>::frame(double label, const ContactPoints* contact) {
     // Written before the particle frame: the .pvd lists a contact frame only once both exist.
     write_file_atomically(dir_ + "/" + fmt::format("contact_{:06d}.vtu", h_.frames.size()), contact_vtu_document(*contact));
   }
+  // Grid frames (output.grid_fields) too are written before the particle frame: grid.pvd lists
+  // only grid frames whose particle frame is there. The solver computes, io writes.
+  const std::string grid = grid_frame_name(name);
+  if (!output_.grid_fields.empty())
+    write_file_atomically(dir_ + "/" + grid, grid_vtu_document<D>(m_, project_to_grid<D>(m_, output_.grid_fields)));
   write_file_atomically(dir_ + "/" + name, vtu_document<D>(m_, output_.fields));
   h_.frames.emplace_back(label, name);
   write_file_atomically(dir_ + "/particles.pvd", pvd_document(h_.frames));
+  if (!output_.grid_fields.empty()) {
+    grid_frames_.emplace_back(label, grid);
+    write_file_atomically(dir_ + "/grid.pvd", pvd_document(grid_frames_));
+  }
   // The ParaView view of the frames (io/paraview_view.hpp), with the first frame of this process.
   if (!view_written_) {
-    write_file_atomically(dir_ + "/particles_view.py", paraview_view_script(D, output_.fields, m_.grid.h));
+    write_file_atomically(dir_ + "/particles_view.py", paraview_view_script(D, output_.fields, m_.grid.h, !output_.grid_fields.empty()));
     view_written_ = true;
   }
   if (contact) {
@@ -242,6 +275,14 @@ void OutputWriter<D>::stage_row(const StageRow& r) {
     const std::vector<std::pair<double, std::string>> frames(h_.frames.begin() + r.first_frame,
                                                              h_.frames.begin() + r.last_frame + 1);
     write_file_atomically(fmt::format("{}/particles_stage{}.pvd", dir_, r.stage), pvd_document(frames));
+    // The stage's grid frames, those of its frames that have one (a restart may switch them on).
+    std::vector<std::pair<double, std::string>> grid;
+    for (const auto& f : frames) {
+      const std::string grid_name = grid_frame_name(f.second);
+      if (std::any_of(grid_frames_.begin(), grid_frames_.end(), [&](const auto& g) { return g.second == grid_name; }))
+        grid.emplace_back(f.first, grid_name);
+    }
+    if (!grid.empty()) write_file_atomically(fmt::format("{}/grid_stage{}.pvd", dir_, r.stage), pvd_document(grid));
   }
   flush_global();
 }

@@ -2,10 +2,13 @@
 // The files a run writes into its output directory:
 //   particles_NNNNNN.vtu  one frame per output interval (binary VTK XML)
 //   particles.pvd         the time series ParaView opens, listing only complete frames
+//   grid_NNNNNN.vtu       with output.grid_fields: the frame's fields on the grid nodes
+//   grid.pvd              their time series, at the times of particles.pvd (io/grid_vtu_writer.hpp)
 //   global.csv            time series of whole-model quantities
 //   recorders.csv         time series of the input's recorders (when it has any), same rows
 //   stages.csv            staged runs: a row per stage ended (docs/stages.md), and
-//   particles_stageN.pvd  the frames of stage N; global.csv and recorders.csv get a `stage` column
+//   particles_stageN.pvd  the frames of stage N (grid_stageN.pvd their grid frames); global.csv and
+//                         recorders.csv get a `stage` column
 // Frames and the .pvd are replaced atomically; the CSVs grow by whole rows. A run holds a lock on
 // the directory (io/output_lock.hpp), and removes the frames of an earlier run there, so that
 // the directory only ever shows one run.
@@ -45,6 +48,8 @@ struct StageRow {
 
 // particles_NNNNNN.vtu (six or more digits): the name of a frame file.
 bool is_frame_file_name(const std::string& name);
+// grid_NNNNNN.vtu (six or more digits): the name of a grid frame file.
+bool is_grid_frame_file_name(const std::string& name);
 // A file a run writes or removes in its output directory: a frame, a .pvd, a CSV, the lock.
 bool is_output_file_name(const std::string& name);
 
@@ -104,6 +109,9 @@ class OutputWriter {
   std::string dir_;
   DirectoryLock lock_;
   OutputHistory h_;
+  // (label, file) of the grid frames grid.pvd lists: those of h_.frames that have one. Not in the
+  // checkpoint: a restart finds them from the files (a restart may switch grid_fields on).
+  std::vector<std::pair<double, std::string>> grid_frames_;
   std::vector<std::string> recorders_;
   bool view_written_ = false;  // particles_view.py, with this process's first frame
   // The frames with a contact_NNNNNN.vtu (those of the stages with contact), for contact.pvd.

@@ -8,7 +8,8 @@
 
 namespace tsuchi {
 
-std::string paraview_view_script(int dimension, const std::vector<std::string>& fields, double cell_size) {
+std::string paraview_view_script(int dimension, const std::vector<std::string>& fields, double cell_size,
+                                 bool grid_frames) {
   const auto has = [&](const char* f) { return std::find(fields.begin(), fields.end(), f) != fields.end(); };
   // The colour: where the shear bands are, else the first of the usual scalars the frames hold.
   std::string colour;
@@ -33,6 +34,16 @@ std::string paraview_view_script(int dimension, const std::vector<std::string>& 
                         "GetColorTransferFunction('{0}').AutomaticRescaleRangeMode = 'Never'\n"
                         "display.SetScalarBarVisibility(view, True)\n",
                         colour);
+  // grid.pvd: its own source, since in particles.pvd as a second part it would make the particles a
+  // multiblock that shares their display (Point Gaussian discs at the nodes, one colour map).
+  const std::string grid =
+      "# The grid frames (output.grid_fields): the particles' fields projected to the grid's nodes, with\n"
+      "# cells where the nodes have mass. Loaded, not shown: select 'grid.pvd' in the Pipeline Browser\n"
+      "# for Plot Over Line, Probe, Slice or Contour, which need cells (a particle is a vertex).\n"
+      "_grid = os.path.join(_directory(), 'grid.pvd')\n"
+      "if os.path.exists(_grid):\n"
+      "    grid = PVDReader(registrationName='grid.pvd', FileName=_grid)\n"
+      "    SetActiveSource(particles)\n";
   return fmt::format(
       R"(# ParaView view of the particle frames in this directory, written by tsuchi {version}.
 # Open it in ParaView (5.9 or later): File > Load State..., choose this file (a Python state file,
@@ -61,7 +72,7 @@ view = GetActiveViewOrCreate('RenderView')
 display = Show(particles, view)
 display.SetRepresentationType('Point Gaussian')
 display.ShaderPreset = '{preset}'
-{size}
+{size}{grid}
 scene = GetAnimationScene()
 scene.UpdateAnimationUsingDataTimeSteps()
 try:
@@ -76,7 +87,7 @@ Render()
       fmt::arg("version", version), fmt::arg("shape", dimension == 2 ? "disc" : "sphere"),
       fmt::arg("colour_said", colour.empty() ? "nothing (no scalar field chosen)" : colour),
       fmt::arg("preset", dimension == 2 ? "Plain circle" : "Sphere"), fmt::arg("size", size),
-      fmt::arg("colouring", colouring),
+      fmt::arg("colouring", colouring), fmt::arg("grid", grid_frames ? grid : std::string{}),
       fmt::arg("camera", dimension == 2 ? "view.InteractionMode = '2D'  # plane strain: the x-y plane\n" : ""));
 }
 

@@ -10,7 +10,10 @@
 
 namespace tsuchi {
 
-// The script for frames of `dimension` holding `fields` (output.fields), in cells of `cell_size`.
-std::string paraview_view_script(int dimension, const std::vector<std::string>& fields, double cell_size);
+// The script for frames of `dimension` holding `fields` (output.fields), in cells of `cell_size`;
+// with `grid_frames` (output.grid_fields), it also opens grid.pvd, not shown, for the filters that
+// need cells (Plot Over Line, Probe, Slice, Contour).
+std::string paraview_view_script(int dimension, const std::vector<std::string>& fields, double cell_size,
+                                 bool grid_frames);
 
 }  // namespace tsuchi

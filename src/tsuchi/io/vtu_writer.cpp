@@ -2,6 +2,7 @@
 
 #include "tsuchi/core/principal.hpp"
 #include "tsuchi/core/version.hpp"
+#include "tsuchi/io/vtk_xml.hpp"
 #include "tsuchi/model/particle_fields.hpp"
 
 #include <fmt/format.h>
@@ -13,28 +14,6 @@
 namespace tsuchi {
 
 namespace {
-
-// Collects the XML header entries and the appended binary blocks side by side.
-class VtuBuilder {
- public:
-  template <class T>
-  void array(std::string& xml, const char* vtk_type, const std::string& name, int components,
-             const std::vector<T>& data) {
-    xml += fmt::format(
-        "        <DataArray type=\"{}\"{} NumberOfComponents=\"{}\" format=\"appended\" offset=\"{}\"/>\n",
-        vtk_type, name.empty() ? std::string{} : fmt::format(" Name=\"{}\"", name), components,
-        blob_.size());
-    const std::uint64_t bytes = data.size() * sizeof(T);
-    append(&bytes, sizeof bytes);
-    append(data.data(), bytes);
-  }
-
-  const std::string& blob() const { return blob_; }
-
- private:
-  void append(const void* p, std::size_t n) { blob_.append(static_cast<const char*>(p), n); }
-  std::string blob_;
-};
 
 // Field f of every particle as the frame stores it: vectors with 3 components and symmetric
 // tensors with 6 in ParaView's order XX, YY, ZZ, XY, YZ, XZ (ours too), zero-padded in 2D.
@@ -71,32 +50,6 @@ std::vector<double> vectors3(const std::vector<Vec<D>>& v, const std::vector<std
   return r;
 }
 
-// A FieldData string array: VTK's XML readers take a String array in ascii format as the
-// character codes of each string followed by a 0 (as vtkXMLWriter writes them), and ParaView lists
-// it under Field Data (the Information panel, and the spreadsheet view's Field Data).
-std::string string_array(const std::string& name, const std::vector<std::string>& strings) {
-  std::string codes;
-  for (const auto& text : strings) {
-    for (const char ch : text) codes += fmt::format("{} ", static_cast<unsigned>(static_cast<unsigned char>(ch)));
-    codes += "0 ";
-  }
-  if (!codes.empty()) codes.pop_back();
-  return fmt::format(
-      "      <DataArray type=\"String\" Name=\"{}\" NumberOfTuples=\"{}\" format=\"ascii\">\n"
-      "        {}\n"
-      "      </DataArray>\n",
-      name, strings.size(), codes);
-}
-
-// A field's unit in a model of dimension D: the registry writes "m^3 (m^2 in 2D)" for both.
-std::string unit_in(const std::string& unit, int dim) {
-  const std::size_t open = unit.find(" (");
-  if (open == std::string::npos) return unit.empty() ? "-" : unit;
-  if (dim == 2 && unit.size() > open + 11 && unit.compare(unit.size() - 7, 7, " in 2D)") == 0)
-    return unit.substr(open + 2, unit.size() - 7 - open - 2);
-  return unit.substr(0, open);
-}
-
 // Field data of a frame: the body names in index order (the point field "body" holds the index);
 // each point field's unit and meaning ("stress [Pa]: Cauchy stress, tension positive"), so that the
 // units travel with the data (issue 41: a confining stress of -10000 was read as a mistake); and
@@ -106,15 +59,9 @@ std::string field_data(const std::vector<std::string>& names, const std::vector<
   for (const auto& name : fields)
     if (const ParticleField* f = find_particle_field(name); f && f->frame)
       units.push_back(fmt::format("{} [{}]: {}", f->name, unit_in(f->unit, dim), f->description));
-  const std::vector<std::string> conventions{
-      "SI units: m, s, kg, Pa (the units array gives each field's)",
-      "stress and strain: tension and extension positive, so compression is negative (a confining "
-      "pressure of 10 kPa is a stress of -10000 Pa)",
-      "tensors: 6 components in the order XX, YY, ZZ, XY, YZ, XZ (zero YZ, XZ in 2D)",
-      dim == 2 ? "2D: plane strain in x, y; z = 0; volume in m^2 and mass in kg per metre of thickness"
-               : "3D: x, y, z; gravity as the input gives it"};
-  return "    <FieldData>\n" + string_array("body_names", names) + string_array("units", units) +
-         string_array("conventions", conventions) + "    </FieldData>\n";
+  const std::vector<std::string> conventions = frame_conventions(dim);
+  return "    <FieldData>\n" + vtk_string_array("body_names", names) + vtk_string_array("units", units) +
+         vtk_string_array("conventions", conventions) + "    </FieldData>\n";
 }
 
 // A frame stores vectors with 3 components and symmetric tensors with 6, in 2D too.
@@ -153,7 +100,7 @@ std::string vtu_document(const Model<D>& model, const std::vector<std::string>& 
   const auto& p = model.particles;
   const std::size_t n = p.size();
   const std::vector<std::size_t> order = id_order(p);
-  VtuBuilder b;
+  VtkAppendedArrays b;
   std::string xml = fmt::format(
       "<?xml version=\"1.0\"?>\n"
       "<!-- written by tsuchi {} -->\n"

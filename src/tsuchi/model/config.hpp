@@ -234,6 +234,10 @@ struct OutputConfig {
   double interval = 0.0;           // s between particle frames; 0 writes only the first and last
   double global_interval = 0.0;    // s between rows of the global CSV; 0: every step
   std::vector<std::string> fields;  // particle fields in the .vtu frames
+  // Particle fields projected to the grid's nodes in grid_NNNNNN.vtu beside each frame
+  // (solver/grid_projection.hpp); empty: no grid frames.
+  std::vector<std::string> grid_fields;
+  std::string grid_fields_where;    // "FILE:LINE:COL" of the key ("" when not given)
   bool write_frames = true;
   // A recorder that labels the frames: its value is each frame's "timestep" in the .pvd (so
   // ParaView's time axis is, say, the axial strain). With label_interval > 0 a frame is also

@@ -222,20 +222,6 @@ int material_index(const Section& s, const Config& c, const std::string& name) {
   return static_cast<int>(it - c.materials.begin());
 }
 
-// The kind of shape a table describes, as written ("box" when it has no `shape`), for the summary.
-std::string shape_kind(Section& s) {
-  const toml::node* n = s.get("shape");
-  std::string k = n && n->as_string() ? n->as_string()->get() : "box";
-  std::transform(k.begin(), k.end(), k.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
-  // A boolean (docs/shapes.md) as "box minus 1 shape": what the summary shows of it.
-  const std::array<std::pair<const char*, const char*>, 3> ops{{{"add", "plus"}, {"intersect", "within"}, {"subtract", "minus"}}};
-  for (const auto& op : ops) {
-    const toml::node* operands = s.get(op.first);
-    const toml::array* a = operands ? operands->as_array() : nullptr;
-    if (a) k += fmt::format(" {} {} shape{}", op.second, a->size(), a->size() == 1 ? "" : "s");
-  }
-  return k;
-}
 
 // The region a body fills (io/shape_reader.hpp), which must lie inside the grid.
 void read_body_shape(Section& s, Config& c, BodyConfig& b, const std::string& directory) {

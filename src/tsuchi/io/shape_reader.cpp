@@ -214,6 +214,21 @@ geometry::ShapePtr read_any(Section& s, const Context& c, int fallback) {
 
 }  // namespace
 
+// The kind of shape a table describes, as written ("box" when it has no `shape`), for the summary.
+std::string shape_kind(Section& s) {
+  const toml::node* n = s.get("shape");
+  std::string k = n && n->as_string() ? n->as_string()->get() : "box";
+  std::transform(k.begin(), k.end(), k.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+  // A boolean (docs/shapes.md) as "box minus 1 shape": what the summary shows of it.
+  const std::array<std::pair<const char*, const char*>, 3> ops{{{"add", "plus"}, {"intersect", "within"}, {"subtract", "minus"}}};
+  for (const auto& op : ops) {
+    const toml::node* operands = s.get(op.first);
+    const toml::array* a = operands ? operands->as_array() : nullptr;
+    if (a) k += fmt::format(" {} {} shape{}", op.second, a->size(), a->size() == 1 ? "" : "s");
+  }
+  return k;
+}
+
 geometry::ShapePtr read_shape(Section& s, int dim, const std::string& directory, Extent extent,
                               std::vector<DataFile>* files, std::vector<std::string>* warnings) {
   const Context c{dim, directory, files, warnings};

@@ -24,4 +24,8 @@ geometry::ShapePtr read_shape(Section& s, int dimension, const std::string& dire
                               Extent extent = Extent::Bounded, std::vector<DataFile>* files = nullptr,
                               std::vector<std::string>* warnings = nullptr);
 
+// The kind of shape a table describes, as written ("box" when it has no `shape`; a boolean as
+// "box minus 1 shape"), for the summary and messages.
+std::string shape_kind(Section& s);
+
 }  // namespace tsuchi::io

@@ -245,7 +245,7 @@ StageConfig read_stage(const toml::table& root, std::size_t k, Config& during, c
       if (during.bodies[static_cast<std::size_t>(b)].rigid_mass > 0.0)
         rs.fail("body", fmt::format("body \"{}\" is a rigid body (rigid_mass): it is {} whole, by its name in '{}'",
                                     during.bodies[static_cast<std::size_t>(b)].name, adding ? "added" : "removed", key));
-    r.kind = rs.has("shape") ? rs.string("shape", "a shape kind") : std::string("box");
+    r.kind = shape_kind(rs);
     // A half-space alone may bound a cut ("everything of the ground above y = 8 m").
     r.shape = read_shape(rs, during.dimension, input_directory(file), Extent::MayBeUnbounded, &during.data_files,
                          &during.warnings);

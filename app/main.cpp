@@ -293,7 +293,7 @@ int run(const Config& c, const Options& o) {
   };
   ro.on_warning = [&](const std::string& w) { reporter.note("warning: " + app::shown(w)); };
   ro.on_stage_end = [&](const StageReport& r) {
-    if (r.equilibrium_asked && r.end != "equilibrium")
+    if (r.equilibrium_asked && !r.reached_equilibrium())
       say(stderr, "warning: stage \"{}\" reached {} before equilibrium; {}\n", r.name, r.end,
                  r.stage < r.stages ? "the next stage starts from a state that is not at rest"
                                     : "the analysis ends in a state that is not at rest");

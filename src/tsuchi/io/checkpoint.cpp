@@ -121,6 +121,7 @@ class Decoder {
     return v;
   }
   std::string text(const std::string& name) const { return std::string(section(name)); }
+  bool has(const std::string& name) const { return sections_.find(name) != sections_.end(); }
 
   [[noreturn]] void fail(const std::string& what) const { refuse(source_, what); }
 
@@ -223,6 +224,11 @@ void write_checkpoint(const std::string& path, const Model<D>& model, const RunP
   e.scalar("stage_first_frame", r.stage_first_frame);
   e.scalar("stages_csv_bytes", r.output.stages_bytes);
   e.scalar("stages_csv_crc", r.output.stages_crc);
+  if (r.rest) {
+    e.array("rest.anchor", r.rest_anchor);
+    e.scalar("rest.largest", r.rest_largest);
+    e.scalar("rest.ratio_start", r.rest_ratio_start);
+  }
   // A staged run's surface loads were built on the particles of its stage's start, and a follower
   // pressure's forces have followed the deformation since (eq N1): both are state. A run with
   // neither rebuilds its loads from the input and writes no such section.
@@ -300,6 +306,19 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
   r.stage_first_frame = in.scalar<std::int64_t>("stage_first_frame");
   r.output.stages_bytes = in.scalar<std::uint64_t>("stages_csv_bytes");
   r.output.stages_crc = in.scalar<std::uint32_t>("stages_csv_crc");
+  r.rest = in.has("rest.largest");
+  if (r.rest) {
+    r.rest_largest = in.scalar<double>("rest.largest");
+    r.rest_ratio_start = in.scalar<double>("rest.ratio_start");
+    // One displacement per particle of the checkpoint's stage (or none, before its first window).
+    const std::size_t n = in.section("rest.anchor").size() / sizeof(double);
+    if (n != 0 && n != static_cast<std::size_t>(count) * D) in.fail("section \"rest.anchor\" does not match the particles");
+    in.array("rest.anchor", r.rest_anchor, n);
+    if (!(r.rest_largest >= 0.0) || !std::isfinite(r.rest_largest) || std::isinf(r.rest_ratio_start))
+      in.fail("the rest window is out of range");
+    for (const double a : r.rest_anchor)
+      if (!std::isfinite(a)) in.fail("the rest window is out of range");
+  }
   const auto stages = static_cast<std::int64_t>(model.staged ? std::max<std::size_t>(model.stage_count, 1) : 1);
   const bool starts_ok = starts == static_cast<std::size_t>(r.stage) + 1 || (!model.staged && starts == 0);
   if (r.stage < 0 || r.stage >= stages || !starts_ok ||

@@ -27,6 +27,9 @@ namespace tsuchi {
 //    stage so far, the largest kinetic energy of the stage, its first frame), stages.csv's length
 //    and CRC-32, and the particles and forces of the surface loads (a stage builds them on the
 //    particles of its start, which a restart no longer has).
+//    A run with an equilibrium stage judged at rest (run/stage_rest.hpp) adds its window: sections
+//    rest.anchor (D doubles per particle), rest.largest and rest.ratio_start; a checkpoint without
+//    them (another run, or one written before they were) restarts such a stage only at its end.
 inline constexpr std::uint32_t checkpoint_version = 5;
 
 // The time loop's own state at the end of a step.
@@ -46,6 +49,10 @@ struct RunProgress {
   std::vector<std::int64_t> stage_start_steps;
   double stage_peak_kinetic = 0.0;          // the largest kinetic energy of the stage so far (J)
   std::int64_t stage_first_frame = 0;       // the stage's first frame, for its .pvd
+  // The rest window of an equilibrium stage (run/stage_rest.hpp RestWindow), saved when `rest`.
+  bool rest = false;
+  std::vector<double> rest_anchor;
+  double rest_largest = 0.0, rest_ratio_start = 0.0;
 };
 
 // Writes atomically (temporary file, then rename); throws OutputError.

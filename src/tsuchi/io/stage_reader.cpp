@@ -19,7 +19,7 @@ const std::set<std::string> body_keys = {"material", "prescribed_velocity", "pre
                                          "prescribed_velocity_gradient"};
 // The stage's own keys (read by read_stage) and the tables it merges into the input's.
 const std::set<std::string> own_keys = {"name", "duration", "steps", "max_steps", "unbalanced_force_ratio",
-                                        "kinetic_energy_ratio", "recorder", "above", "below", "remove", "add",
+                                        "kinetic_energy_ratio", "at_rest", "recorder", "above", "below", "remove", "add",
                                         "reset_displacements"};
 const std::set<std::string> merged_keys = {"model", "solver", "time", "boundary", "loads", "contact", "materials",
                                            "bodies"};
@@ -182,6 +182,10 @@ StageConfig read_stage(const toml::table& root, std::size_t k, Config& during, c
   e.max_steps = s.integer("max_steps", "a positive whole number of steps", [](std::int64_t n) { return n > 0; }, 0);
   e.unbalanced_force_ratio = s.optional_number("unbalanced_force_ratio", "a tolerance in (0, 1)", ratio);
   e.kinetic_energy_ratio = s.optional_number("kinetic_energy_ratio", "a tolerance in (0, 1)", ratio);
+  e.at_rest = s.boolean("at_rest", true);
+  if (s.has("at_rest") && !e.equilibrium())
+    s.fail("at_rest", "ends an equilibrium stage on its ground at rest, but the stage asks for no equilibrium "
+                      "('unbalanced_force_ratio' or 'kinetic_energy_ratio')");
   if (s.has("recorder")) {
     const std::string name = s.string("recorder", "the name of a recorder");
     const auto it = std::find_if(during.recorders.begin(), during.recorders.end(),

@@ -296,6 +296,8 @@ struct StageEnd {
   // its largest value in the stage) below these, checked once any gravity ramp of the stage is over.
   std::optional<double> unbalanced_force_ratio;
   std::optional<double> kinetic_energy_ratio;
+  // An equilibrium stage also ends when its ground is at rest on the ratio's floor (run/stage_rest.hpp).
+  bool at_rest = true;
   int recorder = -1;                     // index in Config::recorders: a stop bound for this stage
   std::optional<double> above, below;
   std::int64_t max_steps = 0;            // 0: none (then duration or steps is given)

@@ -143,7 +143,7 @@ FosResult factor_of_safety(const Config& config, Model<D> model, const FosOption
                                run.stopped_by.empty() ? std::string("time.max_steps") : run.stopped_by),
                    Fault::Other);
   // The search takes F = 1 (the analysis' state) to stand: say so when that state is not at rest.
-  if (!run.stages.empty() && run.stages.back().equilibrium_asked && run.stages.back().end != "equilibrium" &&
+  if (!run.stages.empty() && run.stages.back().equilibrium_asked && !run.stages.back().reached_equilibrium() &&
       options.on_note)
     options.on_note(fmt::format("warning: stage \"{}\" reached {} before equilibrium; the trials start from a state "
                                 "that is not at rest, and F = 1 is taken to stand",

@@ -7,6 +7,7 @@
 #include "tsuchi/io/output_writer.hpp"
 #include "tsuchi/model/stage_change.hpp"
 #include "tsuchi/run/recorder.hpp"
+#include "tsuchi/run/stage_rest.hpp"
 #include "tsuchi/solver/global_quantities.hpp"
 #include "tsuchi/solver/time_step.hpp"
 
@@ -333,6 +334,14 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   std::vector<double> stage_starts = start.stage_starts;
   std::vector<std::int64_t> stage_start_steps = start.stage_start_steps;
   double peak_kinetic = start.stage_peak_kinetic;
+  // The rest verdict of equilibrium stages (run/stage_rest.hpp), kept in a checkpoint when some
+  // stage takes it.
+  const bool rest_judged = staged && std::any_of(config.stages.begin(), config.stages.end(), [](const StageConfig& s) {
+    return s.end.equilibrium() && s.end.at_rest;
+  });
+  const std::int64_t rest_window = rest_window_steps(model.grid);
+  RestWindow rest;
+  rest.anchor = start.rest_anchor, rest.largest = start.rest_largest, rest.ratio_start = start.rest_ratio_start;
   std::int64_t stage_first_frame = start.stage_first_frame;
   bool stage_done = false;
   double settles = -std::numeric_limits<double>::infinity();
@@ -358,6 +367,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
     now.stage = static_cast<std::int64_t>(stage), now.stage_done = stage_done;
     now.stage_starts = stage_starts, now.stage_start_steps = stage_start_steps;
     now.stage_peak_kinetic = peak_kinetic, now.stage_first_frame = stage_first_frame;
+    now.rest = rest_judged;
+    if (rest_judged) now.rest_anchor = rest.anchor, now.rest_largest = rest.largest, now.rest_ratio_start = rest.ratio_start;
     write_checkpoint<D>(ck_path, model, now);
     last_checkpoint = clock::now();
     saved = {solver->steps(), ck_path};
@@ -367,6 +378,12 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   bool resuming = options.restart.has_value();
   bool run_limit_hit = false;
   if (resuming && start.stage_done) ++stage, resuming = false;
+  if (resuming && staged && config.stages[stage].end.equilibrium() && config.stages[stage].end.at_rest &&
+      (!start.rest || rest.anchor.size() != model.particles.size() * D))
+    throw InputError(fmt::format("{}: not a usable checkpoint: it holds no rest window for stage {} \"{}\" "
+                                 "(written by an earlier version of tsuchi, or with the stage's at_rest = false); "
+                                 "restart from a checkpoint at a stage's end, or set the stage's at_rest = false",
+                                 *options.restart, stage + 1, config.stages[stage].name));
   try {
     for (;; ++stage) {
       const double t0 = solver->time();
@@ -387,6 +404,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         stage_starts[stage] = t0, stage_start_steps[stage] = solver->steps();
         peak_kinetic = 0.0;
         latest_kinetic_ratio = std::numeric_limits<double>::quiet_NaN();
+        rest.largest = 0.0;
+        open_rest_window(model, std::numeric_limits<double>::quiet_NaN(), rest);
         // The stage's frames open with the one of its start: the run's first, or the previous stage's last.
         stage_first_frame = out ? std::max<std::int64_t>(0, static_cast<std::int64_t>(out->frames_written()) - 1) : 0;
       }
@@ -522,7 +541,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         // The stage's own ends: equilibrium (once its functions of time have settled) and a recorder.
         if (staged) {
           const StageEnd& e = config.stages[stage].end;
-          if (e.kinetic_energy_ratio) {
+          const bool rest_rule = e.equilibrium() && e.at_rest;
+          if (e.kinetic_energy_ratio || rest_rule) {
             const double ke = kinetic_energy(model.particles);
             peak_kinetic = std::max(peak_kinetic, ke);
             latest_kinetic_ratio = peak_kinetic > 0.0 ? ke / peak_kinetic : 0.0;
@@ -534,6 +554,12 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
             const bool force_ok = !e.unbalanced_force_ratio || solver->unbalanced_force_ratio() < *e.unbalanced_force_ratio;
             const bool energy_ok = !e.kinetic_energy_ratio || latest_kinetic_ratio < *e.kinetic_energy_ratio;
             if (force_ok && energy_ok) stage_end = "equilibrium";
+          }
+          // Every window closes, judged or not, so that the windows are those of the stage's steps.
+          const std::int64_t stage_steps = solver->steps() - stage_start_steps[stage];
+          if (rest_rule && stage_steps > 0 && stage_steps % rest_window == 0) {
+            const bool at_rest = close_rest_window(model, solver->unbalanced_force_ratio(), latest_kinetic_ratio, rest);
+            if (at_rest && now >= settles && judged && stage_end.empty()) stage_end = "at rest";
           }
           if (e.recorder >= 0 && stage_end.empty()) {
             const double v = recorders[static_cast<std::size_t>(e.recorder)].value(*solver);
@@ -576,7 +602,9 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
       rep.start_time = stage_starts[stage], rep.end_time = solver->time();
       rep.start_step = stage_start_steps[stage], rep.end_step = solver->steps();
       rep.unbalanced_force_ratio = solver->unbalanced_force_ratio();
-      rep.kinetic_energy_ratio = latest_kinetic_ratio;
+      // Reported when asked for (a rest verdict computes it too, but the column stays as it was).
+      rep.kinetic_energy_ratio = config.stages[stage].end.kinetic_energy_ratio ? latest_kinetic_ratio
+                                                                               : std::numeric_limits<double>::quiet_NaN();
       rep.equilibrium_asked = config.stages[stage].end.equilibrium();
       if (out) {
         if (solver->time() > last_row) {

@@ -33,6 +33,8 @@ struct Progress {
 struct StageReport : StageRow {
   int stages = 1;
   bool equilibrium_asked = false;
+  // Ended in equilibrium: by its ratios, or at rest on the ratio's floor (run/stage_rest.hpp).
+  bool reached_equilibrium() const { return end == "equilibrium" || end == "at rest"; }
 };
 
 struct RunOptions {

@@ -609,6 +609,33 @@ TEST(Stages, AGroundAtRestOnTheRatioFloorEndsItsStage) {
   EXPECT_NEAR(settled, settled_all, 1e-3 * settled_all);
 }
 
+// The window's start is kept by particle id: the step re-stores the particles in block order
+// (solver.sort_interval), and a movement measured slot by slot would compare different particles.
+TEST(Stages, TheRestWindowFollowsTheParticlesThroughAReordering) {
+  const Config c = read_config_string(kFloor, "floor.toml");
+  Model<2> m = build_model<2>(c);
+  for (std::size_t i = 0; i < m.particles.size(); ++i) m.particles.u_p[i] = Vec<2>(1e-3 * static_cast<double>(i), -2e-3);
+  RestWindow w;
+  open_rest_window(m, 1e-3, w);
+  std::vector<std::size_t> reversed(m.particles.size());
+  for (std::size_t k = 0; k < reversed.size(); ++k) reversed[k] = reversed.size() - 1 - k;
+  m.particles.permute(reversed);
+  EXPECT_EQ(rest_window_movement(m, w), 0.0);
+  m.particles.u_p[3] += Vec<2>(3e-4, -4e-4);
+  EXPECT_NEAR(rest_window_movement(m, w), 5e-4, 1e-15);
+  // The verdict: this movement is the stage's largest so far, so not at rest; the next window,
+  // still within 1 % of it, the ratio not halved and the kinetic energy low, is.
+  EXPECT_FALSE(close_rest_window(m, 1e-3, 1e-6, w));
+  m.particles.u_p[3] += Vec<2>(4e-6, 0.0);
+  EXPECT_TRUE(close_rest_window(m, 0.9e-3, 1e-6, w));
+  m.particles.u_p[3] += Vec<2>(4e-6, 0.0);
+  EXPECT_FALSE(close_rest_window(m, 0.4e-3, 1e-6, w)) << "a ratio that halved is still converging";
+  m.particles.u_p[3] += Vec<2>(4e-6, 0.0);
+  EXPECT_FALSE(close_rest_window(m, 0.4e-3, 2e-4, w)) << "kinetic energy above 1e-4 of its peak";
+  m.particles.u_p[3] += Vec<2>(6e-6, 0.0);
+  EXPECT_FALSE(close_rest_window(m, 0.4e-3, 1e-6, w)) << "moved more than 1 % of the largest window";
+}
+
 TEST(Stages, AtRestIsAnEquilibriumKey) {
   auto message = [](const std::string& text) {
     try {

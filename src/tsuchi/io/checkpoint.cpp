@@ -310,9 +310,9 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
   if (r.rest) {
     r.rest_largest = in.scalar<double>("rest.largest");
     r.rest_ratio_start = in.scalar<double>("rest.ratio_start");
-    // One displacement per particle of the checkpoint's stage (or none, before its first window).
+    // D displacements per particle id (run/stage_rest.hpp), or none before a stage's first window.
     const std::size_t n = in.section("rest.anchor").size() / sizeof(double);
-    if (n != 0 && n != static_cast<std::size_t>(count) * D) in.fail("section \"rest.anchor\" does not match the particles");
+    if (n != 0 && n != static_cast<std::size_t>(model.id_count) * D) in.fail("section \"rest.anchor\" does not match the particle ids");
     in.array("rest.anchor", r.rest_anchor, n);
     if (!(r.rest_largest >= 0.0) || !std::isfinite(r.rest_largest) || std::isinf(r.rest_ratio_start))
       in.fail("the rest window is out of range");

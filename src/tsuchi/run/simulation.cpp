@@ -379,7 +379,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   bool run_limit_hit = false;
   if (resuming && start.stage_done) ++stage, resuming = false;
   if (resuming && staged && config.stages[stage].end.equilibrium() && config.stages[stage].end.at_rest &&
-      (!start.rest || rest.anchor.size() != model.particles.size() * D))
+      (!start.rest || rest.anchor.size() != static_cast<std::size_t>(model.id_count) * D))
     throw InputError(fmt::format("{}: not a usable checkpoint: it holds no rest window for stage {} \"{}\" "
                                  "(written by an earlier version of tsuchi, or with the stage's at_rest = false); "
                                  "restart from a checkpoint at a stage's end, or set the stage's at_rest = false",

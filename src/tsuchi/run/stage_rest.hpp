@@ -41,7 +41,9 @@ std::int64_t rest_window_steps(const Grid<D>& grid) {
 
 // What the verdict keeps between steps (RunProgress holds it for a checkpoint).
 struct RestWindow {
-  std::vector<double> anchor;  // D per particle: the displacement u_p at the window's start
+  // D per particle id (Model::id_count of them): the displacement u_p at the window's start. By
+  // id, since the step re-stores the particles in block order (solver.sort_interval).
+  std::vector<double> anchor;
   double largest = 0.0;        // the largest movement over a window of the stage so far (m)
   double ratio_start = std::numeric_limits<double>::quiet_NaN();  // the ratio at the window's start
 };
@@ -49,10 +51,10 @@ struct RestWindow {
 // A new window from the present state.
 template <int D>
 void open_rest_window(const Model<D>& m, double ratio, RestWindow& w) {
-  const auto& u = m.particles.u_p;
-  w.anchor.resize(u.size() * D);
-  for (std::size_t i = 0; i < u.size(); ++i)
-    for (int d = 0; d < D; ++d) w.anchor[i * D + static_cast<std::size_t>(d)] = u[i][d];
+  const auto& p = m.particles;
+  w.anchor.assign(static_cast<std::size_t>(m.id_count) * D, 0.0);
+  for (std::size_t i = 0; i < p.size(); ++i)
+    for (int d = 0; d < D; ++d) w.anchor[static_cast<std::size_t>(p.id_p[i]) * D + static_cast<std::size_t>(d)] = p.u_p[i][d];
   w.ratio_start = ratio;
 }
 
@@ -66,7 +68,7 @@ double rest_window_movement(const Model<D>& m, const RestWindow& w) {
     if (m.motion[static_cast<std::size_t>(p.body_p[i])].any) continue;
     double s = 0.0;
     for (int d = 0; d < D; ++d) {
-      const double du = p.u_p[i][d] - w.anchor[i * D + static_cast<std::size_t>(d)];
+      const double du = p.u_p[i][d] - w.anchor[static_cast<std::size_t>(p.id_p[i]) * D + static_cast<std::size_t>(d)];
       s += du * du;
     }
     most = std::max(most, s);

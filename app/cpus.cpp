@@ -1,10 +1,13 @@
 #include "cpus.hpp"
 
+#include "tsuchi/core/cgroup.hpp"
+
 #include <fmt/format.h>
 
 #include <sched.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
@@ -12,18 +15,27 @@ namespace tsuchi::app {
 
 namespace {
 
-// The quota of a cgroup in CPUs, or 0 when it sets none.
+// The tightest CPU quota of the process's cgroup and its parents, in CPUs, or 0 when none sets
+// one (v2 cpu.max "max 100000" or "200000 100000"; v1 cpu.cfs_quota_us over cpu.cfs_period_us,
+// -1 for none).
 double cgroup_quota() {
-  {
-    std::ifstream f("/sys/fs/cgroup/cpu.max");  // v2: "max 100000" or "200000 100000"
+  double least = 0.0;
+  auto take = [&](double cpus) {
+    if (cpus > 0.0 && (least == 0.0 || cpus < least)) least = cpus;
+  };
+  for (const std::string& dir : cgroup_v2_dirs()) {
+    std::ifstream f(dir + "/cpu.max");
     std::string quota;
     double period = 0.0;
-    if (f >> quota >> period && quota != "max" && period > 0.0) return std::stod(quota) / period;
+    if (f >> quota >> period && quota != "max" && period > 0.0) take(std::strtod(quota.c_str(), nullptr) / period);
   }
-  std::ifstream q("/sys/fs/cgroup/cpu/cpu.cfs_quota_us"), p("/sys/fs/cgroup/cpu/cpu.cfs_period_us");
-  double quota = -1.0, period = 0.0;
-  if (q >> quota && p >> period && quota > 0.0 && period > 0.0) return quota / period;
-  return 0.0;
+  for (const std::string& dir : cgroup_v1_dirs("cpu")) {
+    double quota = 0.0, period = 0.0;
+    if (read_cgroup_number(dir + "/cpu.cfs_quota_us", quota) && read_cgroup_number(dir + "/cpu.cfs_period_us", period) &&
+        period > 0.0)
+      take(quota / period);
+  }
+  return least;
 }
 
 // Run and wait times (ns) of every thread of this process, summed.

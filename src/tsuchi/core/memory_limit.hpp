@@ -14,7 +14,8 @@ struct MemoryLimit {
 };
 
 // The tightest of: MemAvailable (/proc/meminfo); the memory limit of the process's cgroup (v2
-// memory.max of it and its parents, v1 memory.limit_in_bytes) less what the cgroup uses; the
+// memory.max, v1 memory.limit_in_bytes, of it and of its parents: core/cgroup.hpp) less what the
+// cgroup uses; the
 // address-space limit (RLIMIT_AS, `ulimit -v`) less the process's address space; the data limit
 // (RLIMIT_DATA, `ulimit -d`) less its data segment.
 MemoryLimit memory_limit();

@@ -13,11 +13,10 @@ struct MemoryLimit {
   std::string what;    // the bound that sets it, as a phrase: "of memory available (MemAvailable)"
 };
 
-// The tightest of: MemAvailable (/proc/meminfo); the memory limit of the process's cgroup (v2
-// memory.max, v1 memory.limit_in_bytes, of it and of its parents: core/cgroup.hpp) less what the
-// cgroup uses; the
-// address-space limit (RLIMIT_AS, `ulimit -v`) less the process's address space; the data limit
-// (RLIMIT_DATA, `ulimit -d`) less its data segment.
+// The tightest of: MemAvailable (/proc/meminfo); the memory limit of the process's cgroup and of
+// each parent (v2 memory.max, v1 memory.limit_in_bytes; core/cgroup.hpp) less what that group
+// uses; the address-space limit (RLIMIT_AS, `ulimit -v`) less the process's address space; the
+// data limit (RLIMIT_DATA, `ulimit -d`) less its data segment.
 MemoryLimit memory_limit();
 
 }  // namespace tsuchi

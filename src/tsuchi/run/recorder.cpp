@@ -61,7 +61,7 @@ Recorder<D>::Recorder(const RecorderConfig& config, std::size_t index, const Mod
   if (!q) throw InputError(fmt::format("recorder \"{}\": unknown quantity \"{}\"", c_.name, c_.quantity));
   field_ = q->first, component_ = q->second;
   // Over the bodies a later stage adds as well (Model::dormant): a recorder may follow a fill.
-  member_.assign(std::max(static_cast<std::size_t>(model.id_count), model.particles.size()), 0);
+  members_.clear();
   for (const Particles<D>* set : {&model.particles, &model.dormant}) {
     const auto& p = *set;
     for (std::size_t i = 0; i < p.size(); ++i) {
@@ -72,9 +72,11 @@ Recorder<D>::Recorder(const RecorderConfig& config, std::size_t index, const Mod
         if (c_.min) inside = inside && x0[d] >= (*c_.min)[d];
         if (c_.max) inside = inside && x0[d] <= (*c_.max)[d];
       }
-      if (inside) member_[static_cast<std::size_t>(p.id_p[i])] = 1, ++count_;
+      if (inside) members_.push_back(p.id_p[i]);
     }
   }
+  std::sort(members_.begin(), members_.end());
+  count_ = members_.size();
   if (reduce::sum(static_cast<double>(count_)) == 0.0)
     throw InputError(fmt::format("{}: key 'recorders.{}': recorder \"{}\" selects no particle: no particle of {} starts "
                                  "inside its box; expected a box (min, max) around some initial particle positions",
@@ -115,7 +117,7 @@ const std::vector<std::size_t>& Recorder<D>::indices(const Particles<D>& p) cons
   if (!valid) {
     index_.clear(), index_id_.clear();
     for (std::size_t i = 0; i < p.size(); ++i)
-      if (member_[static_cast<std::size_t>(p.id_p[i])]) index_.push_back(i), index_id_.push_back(p.id_p[i]);
+      if (std::binary_search(members_.begin(), members_.end(), p.id_p[i])) index_.push_back(i), index_id_.push_back(p.id_p[i]);
     scanned_size_ = p.size();
   }
   return index_;

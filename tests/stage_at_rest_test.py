@@ -10,7 +10,7 @@ smooth base with a free side, MUSL + GIMP, asked for a ratio of 1e-5 that the sc
   (which ends "max_steps", as every such stage did before);
 - a run stopped inside the second window and restarted from its checkpoint ends byte-identical
   (the window is in the checkpoint);
-- a checkpoint inside such a stage without the window (an earlier version's) is refused, naming it.
+- a checkpoint inside such a stage without the window (an earlier version's) is refused, naming it, before it touches the output directory.
 
 usage: stage_at_rest_test.py TSUCHI_BINARY
 """
@@ -116,7 +116,10 @@ def main():
                   f"{name} after a restart at step 1500 differs from the run without")
 
         without_rest_window(old)
+        before = {n: open(os.path.join(tmp, "old", n), "rb").read() for n in sorted(os.listdir(os.path.join(tmp, "old")))}
         r = run(tsuchi, ["-o", "old", "--restart", old], tmp, expect=2)
+        after = {n: open(os.path.join(tmp, "old", n), "rb").read() for n in sorted(os.listdir(os.path.join(tmp, "old")))}
+        check(before == after, "the refused restart changed its output directory")
         check("no rest window for stage 1 \"gravity\"" in r.stderr and "old/checkpoint.tsuchi" in r.stderr,
               f"a checkpoint without the window: {r.stderr.strip()}")
     for f in failures:

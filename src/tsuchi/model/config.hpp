@@ -302,6 +302,8 @@ struct StageEnd {
   std::optional<double> above, below;
   std::int64_t max_steps = 0;            // 0: none (then duration or steps is given)
   bool equilibrium() const { return unbalanced_force_ratio || kinetic_energy_ratio; }
+  // Judged at rest on the ratio's floor as well (run/stage_rest.hpp).
+  bool judged_at_rest() const { return equilibrium() && at_rest; }
 };
 
 // A part of the model that a stage removes or adds by its shape (an entry of `remove` / `add` that

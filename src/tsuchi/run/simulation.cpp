@@ -232,6 +232,13 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
                                    config.source, *options.restart, config.stages[static_cast<std::size_t>(start.stage)].name,
                                    start.time));
     stage = static_cast<std::size_t>(start.stage);
+    // Inside a stage judged at rest, the window is state (run/stage_rest.hpp).
+    if (staged && !start.stage_done && config.stages[stage].end.judged_at_rest() &&
+        (!start.rest || start.rest_anchor.size() != static_cast<std::size_t>(model.id_count) * D))
+      throw InputError(fmt::format("{}: not a usable checkpoint: it holds no rest window for stage {} \"{}\" "
+                                   "(written by an earlier version of tsuchi, or with the stage's at_rest = false); "
+                                   "restart from a checkpoint at a stage's end, or set the stage's at_rest = false",
+                                   *options.restart, stage + 1, config.stages[stage].name));
     solver->resume(start.time, start.steps);
   }
   // Check the first step before anything is written: a refused dt leaves the directory untouched.
@@ -336,9 +343,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   double peak_kinetic = start.stage_peak_kinetic;
   // The rest verdict of equilibrium stages (run/stage_rest.hpp), kept in a checkpoint when some
   // stage takes it.
-  const bool rest_judged = staged && std::any_of(config.stages.begin(), config.stages.end(), [](const StageConfig& s) {
-    return s.end.equilibrium() && s.end.at_rest;
-  });
+  const bool rest_judged = staged && std::any_of(config.stages.begin(), config.stages.end(),
+                                                 [](const StageConfig& s) { return s.end.judged_at_rest(); });
   const std::int64_t rest_window = rest_window_steps(model.grid);
   RestWindow rest;
   rest.anchor = start.rest_anchor, rest.largest = start.rest_largest, rest.ratio_start = start.rest_ratio_start;
@@ -378,12 +384,6 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   bool resuming = options.restart.has_value();
   bool run_limit_hit = false;
   if (resuming && start.stage_done) ++stage, resuming = false;
-  if (resuming && staged && config.stages[stage].end.equilibrium() && config.stages[stage].end.at_rest &&
-      (!start.rest || rest.anchor.size() != static_cast<std::size_t>(model.id_count) * D))
-    throw InputError(fmt::format("{}: not a usable checkpoint: it holds no rest window for stage {} \"{}\" "
-                                 "(written by an earlier version of tsuchi, or with the stage's at_rest = false); "
-                                 "restart from a checkpoint at a stage's end, or set the stage's at_rest = false",
-                                 *options.restart, stage + 1, config.stages[stage].name));
   try {
     for (;; ++stage) {
       const double t0 = solver->time();
@@ -541,7 +541,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         // The stage's own ends: equilibrium (once its functions of time have settled) and a recorder.
         if (staged) {
           const StageEnd& e = config.stages[stage].end;
-          const bool rest_rule = e.equilibrium() && e.at_rest;
+          const bool rest_rule = e.judged_at_rest();
           if (e.kinetic_energy_ratio || rest_rule) {
             const double ke = kinetic_energy(model.particles);
             peak_kinetic = std::max(peak_kinetic, ke);

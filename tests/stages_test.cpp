@@ -180,14 +180,7 @@ TEST(Stages, EachStageReadsTheInputWithItsChanges) {
 }
 
 TEST(Stages, MessagesNameTheStageAndKey) {
-  auto message = [](const std::vector<std::string>& sets) {
-    try {
-      read_config_string(kStaged, "staged.toml", sets);
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
+  auto message = [](const std::vector<std::string>& sets) { return input_error_of(kStaged, "staged.toml", sets); };
   expect_message(message({"stages.1.remove=[\"blok\"]"}), {"stages.1.remove", "\"ground\"", "\"blok\""});
   expect_message(message({"stages.2.remove=[\"block\"]"}), {"stages.2.remove", "an earlier stage removed it"});
   expect_message(message({"stages.1.solver.damping=2.0"}), {"solver.damping", "in stage 2 \"dig\""});
@@ -637,14 +630,7 @@ TEST(Stages, TheRestWindowFollowsTheParticlesThroughAReordering) {
 }
 
 TEST(Stages, AtRestIsAnEquilibriumKey) {
-  auto message = [](const std::string& text) {
-    try {
-      read_config_string(text, "floor.toml");
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("accepted");
-  };
+  auto message = [](const std::string& text) { return input_error_of(text, "floor.toml"); };
   expect_message(message(replace(kFloor, "unbalanced_force_ratio = 1e-5\n", "steps = 10\nat_rest = true\n")),
                  {"stages.0.at_rest", "asks for no equilibrium"});
   expect_message(message(replace(kFloor, "max_steps = 20000\n", "max_steps = 20000\nat_rest = 1\n")),

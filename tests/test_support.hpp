@@ -2,6 +2,8 @@
 // Helpers shared by the test suites: editing input text, checking error messages, running the
 // `tsuchi` program in a scratch directory, a run without output, and the Mohr-Coulomb peak the
 // geomaterial tests compare against.
+#include "tsuchi/core/errors.hpp"
+#include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/run/simulation.hpp"
 
 #include <gtest/gtest.h>
@@ -35,6 +37,18 @@ inline std::string replace(std::string text, const std::string& from, const std:
 // The message contains every one of `parts`.
 inline void expect_message(const std::string& msg, const std::vector<std::string>& parts) {
   for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "'" << p << "' missing from: " << msg;
+}
+
+// The message of the InputError that reading `text` (as file `file`, with `sets` as --set)
+// throws, or "accepted".
+inline std::string input_error_of(const std::string& text, const std::string& file,
+                                  const std::vector<std::string>& sets = {}) {
+  try {
+    read_config_string(text, file, sets);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "accepted";
 }
 
 // A run that writes nothing.

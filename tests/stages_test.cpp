@@ -4,6 +4,7 @@
 #include "test_support.hpp"
 
 #include "tsuchi/core/errors.hpp"
+#include "tsuchi/core/interrupt.hpp"
 #include "tsuchi/core/time_function.hpp"
 #include "tsuchi/io/config_reader.hpp"
 #include "tsuchi/material/mohr_coulomb.hpp"
@@ -17,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <csignal>
 #include <numbers>
 #include <map>
 #include <set>
@@ -627,6 +629,85 @@ TEST(Stages, TheRestWindowFollowsTheParticlesThroughAReordering) {
   EXPECT_FALSE(close_rest_window(m, 0.4e-3, 2e-4, w)) << "kinetic energy above 1e-4 of its peak";
   m.particles.u_p[3] += Vec<2>(6e-6, 0.0);
   EXPECT_FALSE(close_rest_window(m, 0.4e-3, 1e-6, w)) << "moved more than 1 % of the largest window";
+}
+
+// The movement is judged along the axes a body moves freely: a platen's held axis moves as it is
+// told, a partly held body still moves along its other axes, and a free rigid body (rigid_mass)
+// along its free ones. Before, every body with some prescribed motion was left out.
+TEST(Stages, TheRestWindowJudgesTheAxesABodyMovesFreely) {
+  const Config c = read_config_string(kFloor, "floor.toml");
+  Model<2> m = build_model<2>(c);
+  RestWindow w;
+  open_rest_window(m, 1e-3, w);
+  m.particles.u_p[0] += Vec<2>(3e-4, -4e-4);
+  EXPECT_NEAR(rest_window_movement(m, w), 5e-4, 1e-15) << "no motion: both axes";
+  BodyMotion<2>& mo = m.motion[static_cast<std::size_t>(m.particles.body_p[0])];
+  mo.any = true, mo.prescribed = {true, false};
+  EXPECT_NEAR(rest_window_movement(m, w), 4e-4, 1e-15) << "x held: y only";
+  mo.prescribed = {true, true};
+  EXPECT_EQ(rest_window_movement(m, w), 0.0) << "a platen";
+  mo.rigid_mass = 10.0, mo.free = {true, false};
+  EXPECT_NEAR(rest_window_movement(m, w), 3e-4, 1e-15) << "a rigid body free in x";
+}
+
+// With the stage's own kinetic_energy_ratio below 1e-4, the verdict takes that one.
+TEST(Stages, TheRestVerdictKeepsATighterKineticEnergyRatio) {
+  const Config c = read_config_string(kFloor, "floor.toml");
+  Model<2> m = build_model<2>(c);
+  RestWindow w;
+  open_rest_window(m, 1e-3, w);
+  m.particles.u_p[0] += Vec<2>(0.0, -1e-3);
+  EXPECT_FALSE(close_rest_window(m, 1e-3, 1e-9, w)) << "the stage's largest movement so far";
+  EXPECT_TRUE(close_rest_window(m, 1e-3, 5e-6, w)) << "still, on the floor, quiet by 1e-4";
+  EXPECT_FALSE(close_rest_window(m, 1e-3, 5e-6, w, 1e-6)) << "not quiet by the stage's 1e-6";
+  EXPECT_TRUE(close_rest_window(m, 1e-3, 5e-7, w, 1e-6));
+}
+
+// A signal at the very step a stage ends (here at rest) is taken after that end: the checkpoint it
+// leaves holds the stage as ended, so the restart begins the next stage at once and ends where the
+// run without the signal does. Before, the checkpoint held the stage as running, with its rest
+// window reopened: the restart ended it a window (1,000 steps) later.
+TEST(Stages, ASignalAtTheStepAStageEndsKeepsThatEnd) {
+  const std::string text = kFloor + "\n[output]\nframes = false\n\n[[stages]]\nname = \"after\"\nsteps = 20\n";
+  const Config c = read_config_string(text, "floor.toml");
+  Model<2> m_all = build_model<2>(c);
+  const RunSummary all = run_simulation<2>(m_all, c, no_output());
+  ASSERT_EQ(all.stages.size(), 2u);
+  ASSERT_EQ(all.stages[0].end, "at rest");
+
+  TempDir tmp("tsuchi_stage_signal");
+  RunOptions o;
+  o.output_directory = tmp.path.string();
+  bool raised = false;
+  o.on_progress = [&](const Progress& p) {
+    if (!raised && p.stage == 1 && p.fraction == 1.0) raised = true, std::raise(SIGTERM);
+  };
+  install_interrupt_handlers();
+  Model<2> m = build_model<2>(c);
+  bool interrupted = false;
+  try {
+    run_simulation<2>(m, c, o);
+  } catch (const Interrupted& e) {
+    interrupted = true;
+    EXPECT_EQ(e.signal, SIGTERM);
+  }
+  clear_interrupt();
+  for (const int s : {SIGINT, SIGTERM, SIGHUP}) std::signal(s, SIG_DFL);
+  ASSERT_TRUE(raised);
+  ASSERT_TRUE(interrupted) << "the signal did not stop the run";
+
+  RunOptions r;
+  r.output_directory = tmp.path.string();
+  r.restart = (tmp.path / "checkpoint.tsuchi").string();
+  Model<2> m_restart = build_model<2>(c);
+  const RunSummary rest = run_simulation<2>(m_restart, c, r);
+  ASSERT_EQ(rest.stages.size(), 1u) << "the restart began in the first stage again";
+  EXPECT_EQ(rest.stages[0].name, "after");
+  EXPECT_EQ(rest.stages[0].start_step, all.stages[0].end_step);
+  EXPECT_EQ(rest.stages[0].end_step, all.stages[1].end_step);
+  ASSERT_EQ(m_restart.particles.size(), m_all.particles.size());
+  for (std::size_t i = 0; i < m_all.particles.size(); ++i)
+    for (int d = 0; d < 2; ++d) ASSERT_EQ(m_restart.particles.x_p[i][d], m_all.particles.x_p[i][d]) << "particle slot " << i;
 }
 
 TEST(Stages, AtRestIsAnEquilibriumKey) {

@@ -62,4 +62,10 @@ void interrupt_saved(const char* message) {
   saved.store(1, std::memory_order_release);  // the message is whole before the handler may read it
 }
 
+void clear_interrupt() {
+  saved.store(0, std::memory_order_release);
+  count = 0;
+  received = 0;
+}
+
 }  // namespace tsuchi

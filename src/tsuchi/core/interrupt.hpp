@@ -13,5 +13,9 @@ int pending_interrupt();
 // The checkpoint of an interrupted run is complete: from now on a signal exits at once, printing
 // `message` (what was saved and how to continue: a signal right after the save must not lose it).
 void interrupt_saved(const char* message = "");
+// Forget a signal that has been dealt with, so that a program running several simulations (a
+// study, the tests) may start the next one: pending_interrupt() is 0 again and a signal is again a
+// request to stop, not an exit. The handlers stay as they are.
+void clear_interrupt();
 
 }  // namespace tsuchi

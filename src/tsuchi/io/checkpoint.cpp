@@ -311,8 +311,11 @@ RunProgress decode_checkpoint(std::string_view bytes, const std::string& source,
     r.rest_largest = in.scalar<double>("rest.largest");
     r.rest_ratio_start = in.scalar<double>("rest.ratio_start");
     // D displacements per particle id (run/stage_rest.hpp), or none before a stage's first window.
-    const std::size_t n = in.section("rest.anchor").size() / sizeof(double);
-    if (n != 0 && n != static_cast<std::size_t>(model.id_count) * D) in.fail("section \"rest.anchor\" does not match the particle ids");
+    const std::size_t held = in.section("rest.anchor").size(), full = static_cast<std::size_t>(model.id_count) * D;
+    if (held != 0 && held != full * sizeof(double))
+      in.fail(fmt::format("section \"rest.anchor\" holds {} bytes, expected 0 or {} ({} per particle id, {} ids)", held,
+                          full * sizeof(double), D, model.id_count));
+    const std::size_t n = held / sizeof(double);
     in.array("rest.anchor", r.rest_anchor, n);
     if (!(r.rest_largest >= 0.0) || !std::isfinite(r.rest_largest) || std::isinf(r.rest_ratio_start))
       in.fail("the rest window is out of range");
@@ -388,9 +391,12 @@ RunProgress read_checkpoint(const std::string& path, Model<D>& model,
   const std::uint64_t count = read_header<D>(std::string_view(bytes).substr(0, got), path).particles;
   if (model.staged ? count > static_cast<std::uint64_t>(model.id_count) : count != model.particles.size())
     refuse(path, fmt::format("it holds {} particles, the input makes {}", count, model.particles.size()));
-  // Every section but the frame list is a fixed size per particle; 64 bytes per frame listed.
+  // Every section but the frame list is a fixed size per particle, or per particle id (the rest
+  // window, run/stage_rest.hpp: a staged run's ids include the bodies still to come); 64 bytes per
+  // frame listed.
   const auto size = static_cast<std::uint64_t>(st.st_size);
-  const std::uint64_t most = (count + 1) * 2 * model.particles.bytes_per_particle() + (std::uint64_t{1} << 30);
+  const std::uint64_t most = (count + 1) * 2 * model.particles.bytes_per_particle() +
+                             static_cast<std::uint64_t>(model.id_count) * D * sizeof(double) + (std::uint64_t{1} << 30);
   if (size > most) refuse(path, fmt::format("it is {} bytes long, more than a checkpoint of {} particles can be", size, count));
   bytes.resize(static_cast<std::size_t>(size));
   const std::size_t rest = bytes.size() - header_size;

@@ -28,8 +28,9 @@ namespace tsuchi {
 //    and CRC-32, and the particles and forces of the surface loads (a stage builds them on the
 //    particles of its start, which a restart no longer has).
 //    A run with an equilibrium stage judged at rest (run/stage_rest.hpp) adds its window: sections
-//    rest.anchor (D doubles per particle), rest.largest and rest.ratio_start; a checkpoint without
-//    them (another run, or one written before they were) restarts such a stage only at its end.
+//    rest.anchor (D doubles per particle id, Model::id_count of them), rest.largest and
+//    rest.ratio_start; a checkpoint without them (written before they were) restarts inside such a
+//    stage with a fresh window (run/simulation.cpp warns).
 inline constexpr std::uint32_t checkpoint_version = 5;
 
 // The time loop's own state at the end of a step.

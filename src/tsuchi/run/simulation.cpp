@@ -216,6 +216,7 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
       recorder_start[k] = recorders[k].value(*solver);
   if (options.write_output) check_output_paths(config, dir, ck_path);
   RunProgress start;
+  bool fresh_rest_window = false;  // a restart inside a stage judged at rest, from a checkpoint without its window
   if (options.restart) {
     start = read_checkpoint<D>(*options.restart, model, [&](const RunProgress& r) {
       if (staged) restore_stage(model, config, static_cast<std::size_t>(r.stage), r.stage_starts);
@@ -232,13 +233,10 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
                                    config.source, *options.restart, config.stages[static_cast<std::size_t>(start.stage)].name,
                                    start.time));
     stage = static_cast<std::size_t>(start.stage);
-    // Inside a stage judged at rest, the window is state (run/stage_rest.hpp).
-    if (staged && !start.stage_done && config.stages[stage].end.judged_at_rest() &&
-        (!start.rest || start.rest_anchor.size() != static_cast<std::size_t>(model.id_count) * D))
-      throw InputError(fmt::format("{}: not a usable checkpoint: it holds no rest window for stage {} \"{}\" "
-                                   "(written by an earlier version of tsuchi, or with the stage's at_rest = false); "
-                                   "restart from a checkpoint at a stage's end, or set the stage's at_rest = false",
-                                   *options.restart, stage + 1, config.stages[stage].name));
+    // Inside a stage judged at rest, the window is state (run/stage_rest.hpp). A checkpoint of an
+    // earlier version has none: the verdict starts afresh there (below), said in a warning.
+    fresh_rest_window = staged && !start.stage_done && config.stages[stage].end.judged_at_rest() &&
+                        (!start.rest || start.rest_anchor.size() != static_cast<std::size_t>(model.id_count) * D);
     solver->resume(start.time, start.steps);
   }
   // Check the first step before anything is written: a refused dt leaves the directory untouched.
@@ -348,6 +346,18 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
   const std::int64_t rest_window = rest_window_steps(model.grid);
   RestWindow rest;
   rest.anchor = start.rest_anchor, rest.largest = start.rest_largest, rest.ratio_start = start.rest_ratio_start;
+  if (fresh_rest_window) {
+    // The movement before the restart is unknown: the windows from here are judged against the
+    // largest of their own, so a ground already still may run on to the stage's other ends.
+    rest.largest = 0.0;
+    open_rest_window(model, std::numeric_limits<double>::quiet_NaN(), rest);
+    if (options.on_warning)
+      options.on_warning(fmt::format(
+          "{}: the checkpoint holds no rest window for stage {} \"{}\" (written by an earlier version of tsuchi): "
+          "its at-rest verdict starts afresh at step {}, judged on the movement from there on; the stage may end "
+          "later than the run would have, or by its max_steps",
+          *options.restart, stage + 1, config.stages[stage].name, start.steps));
+  }
   std::int64_t stage_first_frame = start.stage_first_frame;
   bool stage_done = false;
   double settles = -std::numeric_limits<double>::infinity();
@@ -378,6 +388,16 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
     write_checkpoint<D>(ck_path, model, now);
     last_checkpoint = clock::now();
     saved = {solver->steps(), ck_path};
+  };
+
+  // A signal's stop, once the state is saved.
+  auto stop_for_signal = [&](int sig) {
+    const std::string message =
+        out ? fmt::format("signal {} at step {} (t = {:.6g} s); the state is saved in {}; continue with {} --restart {}",
+                          sig, solver->steps(), solver->time(), ck_path, options.resume_command, shell_word(ck_path))
+            : fmt::format("signal {} at step {} (t = {:.6g} s)", sig, solver->steps(), solver->time());
+    interrupt_saved(message.c_str());  // a signal from now on exits at once, with this message
+    throw Interrupted(message, sig);
   };
 
   // A restart at the end of a stage begins the next one.
@@ -558,7 +578,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
           // Every window closes, judged or not, so that the windows are those of the stage's steps.
           const std::int64_t stage_steps = solver->steps() - stage_start_steps[stage];
           if (rest_rule && stage_steps > 0 && stage_steps % rest_window == 0) {
-            const bool at_rest = close_rest_window(model, solver->unbalanced_force_ratio(), latest_kinetic_ratio, rest);
+            const bool at_rest = close_rest_window(model, solver->unbalanced_force_ratio(), latest_kinetic_ratio, rest,
+                                                   e.kinetic_energy_ratio.value_or(rest_kinetic_fraction));
             if (at_rest && now >= settles && judged && stage_end.empty()) stage_end = "at rest";
           }
           if (e.recorder >= 0 && stage_end.empty()) {
@@ -574,23 +595,23 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
         }
         if (!stopped_by.empty()) progress.fraction = 1.0;
         if (options.on_progress) options.on_progress(progress);
-        if (const int sig = pending_interrupt()) {
-          save();
-          const std::string message =
-              out ? fmt::format("signal {} at step {} (t = {:.6g} s); the state is saved in {}; continue with {} --restart {}",
-                                sig, solver->steps(), now, ck_path, options.resume_command, shell_word(ck_path))
-                  : fmt::format("signal {} at step {} (t = {:.6g} s)", sig, solver->steps(), now);
-          interrupt_saved(message.c_str());  // a signal from now on exits at once, with this message
-          throw Interrupted(message, sig);
-        }
+        // A signal at the step a stage ends is taken after that end (below): a checkpoint saved
+        // here would hold the stage as not ended, and its restart would end it later, or
+        // (a rest verdict's window already reopened) a whole window later.
+        if (stage_end.empty())
+          if (const int sig = pending_interrupt()) {
+            save();
+            stop_for_signal(sig);
+          }
         if (!stopped_by.empty() || !stage_end.empty()) break;
         if ((kc.every_steps > 0 && solver->steps() % kc.every_steps == 0) ||
             (kc.every_minutes > 0.0 && clock::now() - last_checkpoint >= checkpoint_wall))
           save();
       }
       // A recorder's stop bound stops the run, not the stage: a restart (with another bound)
-      // continues the stage where it stopped.
-      if (!staged || run_limit_hit || !stopped_by.empty()) {
+      // continues the stage where it stopped. At the step the stage ends, the stage's end is
+      // taken first, as for a signal.
+      if (!staged || run_limit_hit || (!stopped_by.empty() && stage_end.empty())) {
         run_limit_hit = run_limit_hit || staged;
         break;
       }
@@ -624,6 +645,8 @@ RunSummary run_simulation(Model<D>& model, const Config& config, const RunOption
       stage_done = true;
       save();
       if (stage >= last_stage) break;
+      if (!stopped_by.empty()) break;  // the checkpoint at the stage's end is the run's last
+      if (const int sig = pending_interrupt()) stop_for_signal(sig);
     }
   } catch (const Interrupted&) {
     throw;

@@ -8,17 +8,20 @@
 // The stage is judged over windows of its own steps (rest_window_steps, counted from its first
 // step, so a restart judges the same windows). At the end of each window the ground is at rest when
 // all of these hold:
-//   - the largest movement of a deformable particle over the window is below 1 % of the largest
-//     movement over any window of the stage, plus 1e-6 of a cell (a ground that barely moved);
+//   - the largest movement of a particle over the window, along the axes its body moves freely,
+//     is below 1 % of the largest movement over any window of the stage, plus 1e-6 of a cell (a
+//     ground that barely moved);
 //   - the ratio has not halved over the window: it sits on its floor instead of converging, which
 //     the ratio's own tolerance would then take;
-//   - the kinetic energy is below 1e-4 of its largest value in the stage.
+//   - the kinetic energy is below 1e-4 of its largest value in the stage (or the stage's own
+//     kinetic_energy_ratio, when that is smaller).
 // A first window never qualifies (it has no ratio of its start). The state it needs between steps
 // (the displacement at the window's start, the largest movement, the ratio at the window's start)
 // is saved in a checkpoint, so a restart takes the same verdict at the same step.
 #include "tsuchi/model/model.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -58,16 +61,25 @@ void open_rest_window(const Model<D>& m, double ratio, RestWindow& w) {
   w.ratio_start = ratio;
 }
 
-// The largest movement since the window's start of a particle whose body moves freely (a body
-// with a prescribed motion, a platen or a rigid block, moves as it is told).
+// The largest movement since the window's start of a particle, over the components its body does
+// not have prescribed: a platen or a held component moves as it is told, while a partly held body
+// moves freely along its other axes, and a free rigid body (rigid_mass) by its momentum balance.
 template <int D>
 double rest_window_movement(const Model<D>& m, const RestWindow& w) {
   const auto& p = m.particles;
+  std::vector<std::array<bool, D>> judged(m.motion.size());
+  for (std::size_t b = 0; b < m.motion.size(); ++b)
+    for (int d = 0; d < D; ++d) {
+      const auto& mo = m.motion[b];
+      const auto k = static_cast<std::size_t>(d);
+      judged[b][k] = !mo.any || !mo.prescribed[k] || (mo.rigid_mass > 0.0 && mo.free[k]);
+    }
   double most = 0.0;
   for (std::size_t i = 0; i < p.size(); ++i) {
-    if (m.motion[static_cast<std::size_t>(p.body_p[i])].any) continue;
+    const auto& on = judged[static_cast<std::size_t>(p.body_p[i])];
     double s = 0.0;
     for (int d = 0; d < D; ++d) {
+      if (!on[static_cast<std::size_t>(d)]) continue;
       const double du = p.u_p[i][d] - w.anchor[static_cast<std::size_t>(p.id_p[i]) * D + static_cast<std::size_t>(d)];
       s += du * du;
     }
@@ -77,14 +89,16 @@ double rest_window_movement(const Model<D>& m, const RestWindow& w) {
 }
 
 // At a window's end: the verdict, and the next window opened. `kinetic_ratio` is the kinetic
-// energy over the stage's largest.
+// energy over the stage's largest; `kinetic_tolerance` the stage's own kinetic_energy_ratio, when
+// it asks for one below rest_kinetic_fraction (the verdict never accepts more than it asked).
 template <int D>
-bool close_rest_window(const Model<D>& m, double ratio, double kinetic_ratio, RestWindow& w) {
+bool close_rest_window(const Model<D>& m, double ratio, double kinetic_ratio, RestWindow& w,
+                       double kinetic_tolerance = rest_kinetic_fraction) {
   const double moved = rest_window_movement(m, w);
   w.largest = std::max(w.largest, moved);
   const bool still = moved < rest_movement_fraction * w.largest + rest_movement_floor * m.grid.h;
   const bool on_floor = ratio > 0.5 * w.ratio_start;  // false for the first window (NaN)
-  const bool quiet = kinetic_ratio < rest_kinetic_fraction;
+  const bool quiet = kinetic_ratio < std::min(rest_kinetic_fraction, kinetic_tolerance);
   open_rest_window(m, ratio, w);
   return still && on_floor && quiet;
 }

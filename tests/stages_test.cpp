@@ -15,6 +15,7 @@
 #include "tsuchi/run/simulation.hpp"
 #include "tsuchi/run/stage_rest.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -668,7 +669,7 @@ TEST(Stages, TheRestVerdictKeepsATighterKineticEnergyRatio) {
 // run without the signal does. Before, the checkpoint held the stage as running, with its rest
 // window reopened: the restart ended it a window (1,000 steps) later.
 TEST(Stages, ASignalAtTheStepAStageEndsKeepsThatEnd) {
-  const std::string text = kFloor + "\n[output]\nframes = false\n\n[[stages]]\nname = \"after\"\nsteps = 20\n";
+  const std::string text = replace(kFloor, "y_min = \"fixed\"", "y_min = \"roller\"") + "\n[output]\nframes = false\n\n[[stages]]\nname = \"after\"\nsteps = 20\n";
   const Config c = read_config_string(text, "floor.toml");
   Model<2> m_all = build_model<2>(c);
   const RunSummary all = run_simulation<2>(m_all, c, no_output());
@@ -706,6 +707,57 @@ TEST(Stages, ASignalAtTheStepAStageEndsKeepsThatEnd) {
   EXPECT_EQ(rest.stages[0].start_step, all.stages[0].end_step);
   EXPECT_EQ(rest.stages[0].end_step, all.stages[1].end_step);
   ASSERT_EQ(m_restart.particles.size(), m_all.particles.size());
+  for (std::size_t i = 0; i < m_all.particles.size(); ++i)
+    for (int d = 0; d < 2; ++d) ASSERT_EQ(m_restart.particles.x_p[i][d], m_all.particles.x_p[i][d]) << "particle slot " << i;
+}
+
+// The same for a recorder's stop bound met at the step a stage ends: the stage's end is taken (its
+// row, stage_done in the checkpoint) before the run stops, so a restart without the bound begins
+// the next stage. The recorder follows a marker body lowered at a constant prescribed speed, clear
+// of the block: its displacement falls every step, so the bound set to its value at the stage's
+// end is first met at that step. (The marker, held along both axes, is also left out of the rest
+// verdict.)
+TEST(Stages, ARecorderStopAtTheStepAStageEndsKeepsThatEnd) {
+  const std::string marker = "\n[[bodies]]\nname = \"marker\"\nmaterial = \"block\"\nmin = [5.5, 2.5]\nmax = [6.0, 2.75]\n"
+                             "prescribed_velocity = { x = 0.0, y = -1e-4 }\n\n[output]\nframes = false\n";
+  const std::string after = "\n[[stages]]\nname = \"after\"\nsteps = 20\n";
+  const std::string probe = "\n[[recorders]]\nname = \"probe\"\nbody = \"marker\"\nquantity = \"displacement_y\"\n";
+  // On a smooth base the block is at rest after 2,000 steps (15,000 on the fixed one).
+  const std::string smooth = replace(kFloor, "y_min = \"fixed\"", "y_min = \"roller\"");
+  const Config c = read_config_string(smooth + marker + after + probe, "floor.toml");
+  Model<2> m_all = build_model<2>(c);
+  const std::vector<Recorder<2>> recorders = make_recorders<2>(c, m_all);
+  std::vector<double> probe_at;  // by step
+  const RunSummary all = run_simulation<2>(m_all, c, no_output(), [&](const ExplicitSolver<2>& solver) {
+    probe_at.resize(static_cast<std::size_t>(solver.steps()) + 1);
+    probe_at.back() = recorders[0].value(solver);
+  });
+  ASSERT_EQ(all.stages.size(), 2u);
+  ASSERT_EQ(all.stages[0].end, "at rest");
+  const std::int64_t E = all.stages[0].end_step;
+  ASSERT_LT(probe_at[static_cast<std::size_t>(E)], probe_at[static_cast<std::size_t>(E) - 1]);
+
+  const Config stopped = read_config_string(
+      smooth + marker + after + probe + fmt::format("stop_below = {:.17g}\n", probe_at[static_cast<std::size_t>(E)]),
+      "floor.toml");
+  TempDir tmp("tsuchi_stage_stop");
+  RunOptions o;
+  o.output_directory = tmp.path.string();
+  Model<2> m = build_model<2>(stopped);
+  const RunSummary s = run_simulation<2>(m, stopped, o);
+  EXPECT_FALSE(s.stopped_by.empty());
+  EXPECT_EQ(s.steps, E);
+  ASSERT_EQ(s.stages.size(), 1u) << "the stage's end was not taken";
+  EXPECT_EQ(s.stages[0].end, "at rest");
+
+  RunOptions r;
+  r.output_directory = tmp.path.string();
+  r.restart = (tmp.path / "checkpoint.tsuchi").string();
+  Model<2> m_restart = build_model<2>(c);
+  const RunSummary rest = run_simulation<2>(m_restart, c, r);
+  ASSERT_EQ(rest.stages.size(), 1u) << "the restart began in the first stage again";
+  EXPECT_EQ(rest.stages[0].name, "after");
+  EXPECT_EQ(rest.stages[0].end_step, all.stages[1].end_step);
   for (std::size_t i = 0; i < m_all.particles.size(); ++i)
     for (int d = 0; d < 2; ++d) ASSERT_EQ(m_restart.particles.x_p[i][d], m_all.particles.x_p[i][d]) << "particle slot " << i;
 }

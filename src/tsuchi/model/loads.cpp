@@ -40,11 +40,34 @@ std::string vec_text(const Triple& v, int dim) {
   return r + "]";
 }
 
+// The faces of a particle that lie on a grid face holding their normal (a roller, fixed or
+// friction face: a symmetry plane or a wall): against a support, not a free surface. In the whole
+// model a symmetry plane stands for, the mirror particle is there and the face is inside; a
+// pressure on it would push the body into the plane (p times the particle spacing at the corner
+// of a load box that reaches the plane).
+template <int D>
+std::uint8_t supported_faces(const Vec<D>& x, const Vec<D>& l, const Grid<D>& g, const BoundaryConfig& b) {
+  std::uint8_t mask = 0;
+  for (int d = 0; d < D; ++d) {
+    const auto k = static_cast<std::size_t>(d);
+    const double tol = 1e-6 * l[d];
+    if (b.faces[k][0] != FaceCondition::Free && x[d] - l[d] <= g.origin[d] + tol)
+      mask = static_cast<std::uint8_t>(mask | (1u << (2 * d)));
+    if (b.faces[k][1] != FaceCondition::Free && x[d] + l[d] >= g.upper()[d] - tol)
+      mask = static_cast<std::uint8_t>(mask | (1u << (2 * d + 1)));
+  }
+  return mask;
+}
+
 // A traction or pressure on the selected boundary particles of its body.
 template <int D>
 ParticleLoad<D> surface_load(const Config& c, const LoadConfig& load, const Particles<D>& p, const Grid<D>& g,
                              std::vector<std::uint8_t>& faces, int& faces_of) {
-  if (faces_of != load.body) faces = exposed_faces<D>(p, g, load.body), faces_of = load.body;
+  if (faces_of != load.body) {
+    faces = exposed_faces<D>(p, g, load.body), faces_of = load.body;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      if (faces[i] != 0) faces[i] = static_cast<std::uint8_t>(faces[i] & ~supported_faces<D>(p.x_p[i], p.l_p[i], g, c.boundary));
+  }
   const double tol = 1e-9 * g.h;
   ParticleLoad<D> out;
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -89,12 +112,13 @@ ParticleLoad<D> surface_load(const Config& c, const LoadConfig& load, const Part
       throw InputError(fmt::format(
           "{}: selects no boundary particle: no particle of body \"{}\" with a face exposed towards the normal {} lies "
           "within one particle spacing of the plane through {}; expected the plane of a surface of the body, with "
-          "the normal pointing out of it",
+          "the normal pointing out of it (a face on a roller, fixed or friction grid face is held, not loaded)",
           load.where, body, vec_text(load.plane_normal, D), vec_text(load.plane_point, D)));
     throw InputError(fmt::format(
         "{}: selects no boundary particle: the box from {} to {} holds the centre of no particle of body \"{}\" on its "
         "boundary; expected a box around the loaded surface's particles, whose centres lie half a particle spacing "
-        "(cell_size / particles_per_cell / 2) inside the surface",
+        "(cell_size / particles_per_cell / 2) inside the surface (a face on a roller, fixed or friction grid face is "
+        "held, not loaded)",
         load.where, vec_text(load.min, D), vec_text(load.max, D), body));
   }
   // By id: the solver applies the forces in this order, the same whatever the particles' storage order.

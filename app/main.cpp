@@ -9,6 +9,7 @@
 #include "disk_space.hpp"
 #include "progress.hpp"
 
+#include "tsuchi/comm/communicator.hpp"
 #include "tsuchi/core/errors.hpp"
 #include "tsuchi/core/interrupt.hpp"
 #include "tsuchi/core/memory_limit.hpp"
@@ -399,6 +400,8 @@ int dispatch(bool run_it, const Options& o, bool fos_it = false) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // MPI when a launcher (mpirun) started the process: before the command line, which MPI may edit.
+  const tsuchi::comm::Session mpi(argc, argv);
   CLI::App app{"tsuchi: GIMP / MPM solver for large-deformation geomechanics"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("tsuchi ") + version);
@@ -467,6 +470,17 @@ int main(int argc, char** argv) {
       return exit_code::usage;
     }
     return app.exit(e) == 0 ? exit_code::ok : exit_code::usage;
+  }
+  // Several processes: the step does not yet divide the model between them (issue 42,
+  // docs/issue42-design.md), and N copies of one run would race for one output directory. Said
+  // once, by the first process; every process exits with the same code.
+  if (const tsuchi::comm::Communicator world = tsuchi::comm::Communicator::world(); world.size() > 1) {
+    if (world.rank() == 0)
+      say(stderr,
+          "tsuchi on {} processes: distributed runs (mpirun -np N) are not built yet; start it as one process "
+          "(tsuchi {} ...), with --threads for this machine's cores\n",
+          world.size(), argc > 1 ? app::shown(argv[1]) : std::string("run"));
+    return exit_code::usage;
   }
   // Line by line: piped into one log, the summary (stdout) comes before the progress (stderr).
   std::setvbuf(stdout, nullptr, _IOLBF, 0);

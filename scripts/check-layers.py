@@ -6,7 +6,7 @@ usage: /usr/bin/python3 scripts/check-layers.py [--quiet]
 The layers, lowest first; a file may include its own folder and any folder of a lower layer,
 never one above (folders on one layer may not include each other):
 
-    core -> grid, particles -> shape -> material -> element, model -> solver -> io -> run -> app
+    comm -> core -> grid, particles -> shape -> material -> element, model -> solver -> io -> run -> app
 
 io (files: the input and checkpoint readers, the frame and CSV writers) knows the model but not
 the loop; run (the loop over time: recorders, output schedule, checkpoints, faults) drives the
@@ -19,7 +19,7 @@ import re
 import sys
 
 REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-LAYERS = [["core"], ["geometry", "grid", "particles"], ["shape"], ["material"], ["element", "model"], ["solver"],
+LAYERS = [["comm"], ["core"], ["geometry", "grid", "particles"], ["shape"], ["material"], ["element", "model"], ["solver"],
           ["io"], ["run"], ["app"]]
 RANK = {folder: i for i, layer in enumerate(LAYERS) for folder in layer}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"tsuchi/([a-z_]+)/[^"]+"')

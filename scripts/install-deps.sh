@@ -9,6 +9,7 @@ packages=(
   libfmt-dev                       # formatting
   libmuparser-dev                  # formulas of position in input files (initial velocity)
   zlib1g-dev                       # CRC-32 of checkpoints
+  openmpi-bin libopenmpi-dev       # distributed runs (mpirun -np N); the build works without them
   libgtest-dev                     # tests
   clang libclang-rt-14-dev         # fuzzing (scripts/fuzz.sh): clang, its libFuzzer and sanitizer runtimes
   libomp-14-dev                    # clang's OpenMP runtime (gcc's ASan/UBSan come with build-essential)

@@ -1,5 +1,6 @@
 // Several processes: MPI_COMM_WORLD (communicator.hpp), compiled when CMake finds MPI.
 #include "tsuchi/comm/communicator.hpp"
+#include "tsuchi/comm/one_process.hpp"
 
 #include <mpi.h>
 
@@ -33,11 +34,7 @@ int count_of(std::size_t bytes) {
 
 bool built_with_mpi() { return true; }
 
-bool launched() {
-  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
-    if (std::getenv(v)) return true;
-  return false;
-}
+bool launched() { return detail::launcher_variables_set(); }
 
 Session::Session(int& argc, char**& argv) {
   if (!launched()) return;
@@ -140,17 +137,7 @@ std::vector<std::string> Communicator::gather(const std::string& bytes, int root
 
 std::vector<std::string> Communicator::exchange(const std::vector<std::pair<int, std::string>>& sends,
                                                 const std::vector<int>& sources) const {
-  if (size_ == 1) {  // alone (MPI perhaps not started): what this process sent itself
-    std::vector<std::string> got;
-    for (const int s : sources) {
-      if (s != 0) throw std::logic_error("exchange: a source rank other than 0 in a one-process run");
-      std::string mine;
-      for (const auto& [to, bytes] : sends)
-        if (to == 0) mine = bytes;
-      got.push_back(std::move(mine));
-    }
-    return got;
-  }
+  if (size_ == 1) return detail::exchange_with_itself(sends, sources);  // alone (MPI perhaps not started)
   std::vector<MPI_Request> requests(sends.size());
   for (std::size_t k = 0; k < sends.size(); ++k)
     MPI_Isend(sends[k].second.data(), count_of(sends[k].second.size()), MPI_BYTE, sends[k].first, exchange_tag,

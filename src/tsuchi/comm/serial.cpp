@@ -1,18 +1,13 @@
 // One process, no MPI: the build without TSUCHI_MPI (communicator.hpp).
 #include "tsuchi/comm/communicator.hpp"
+#include "tsuchi/comm/one_process.hpp"
 
-#include <cstdlib>
-#include <stdexcept>
 
 namespace tsuchi::comm {
 
 bool built_with_mpi() { return false; }
 
-bool launched() {
-  for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
-    if (std::getenv(v)) return true;
-  return false;
-}
+bool launched() { return detail::launcher_variables_set(); }
 
 Session::Session(int&, char**&) {}
 Session::~Session() = default;
@@ -32,15 +27,7 @@ std::vector<std::string> Communicator::gather(const std::string& bytes, int) con
 
 std::vector<std::string> Communicator::exchange(const std::vector<std::pair<int, std::string>>& sends,
                                                 const std::vector<int>& sources) const {
-  std::vector<std::string> got;
-  for (const int s : sources) {
-    if (s != 0) throw std::logic_error("exchange: a source rank other than 0 in a one-process run");
-    std::string mine;
-    for (const auto& [to, bytes] : sends)
-      if (to == 0) mine = bytes;
-    got.push_back(std::move(mine));
-  }
-  return got;
+  return detail::exchange_with_itself(sends, sources);
 }
 
 std::string Communicator::agree(bool ok, const std::string& message) const { return ok ? std::string() : message; }

@@ -664,6 +664,25 @@ TEST(Stages, TheRestVerdictKeepsATighterKineticEnergyRatio) {
   EXPECT_TRUE(close_rest_window(m, 1e-3, 5e-7, w, 1e-6));
 }
 
+// A restart from the checkpoint in `tmp` of a run stopped at the end of its first stage: it must
+// begin with the second stage and end where the uninterrupted run `all` (its model `m_all`) did,
+// with the same particle positions, bit for bit.
+void expect_the_restart_begins_the_next_stage(const Config& c, const TempDir& tmp, const RunSummary& all,
+                                              const Model<2>& m_all) {
+  RunOptions r;
+  r.output_directory = tmp.path.string();
+  r.restart = (tmp.path / "checkpoint.tsuchi").string();
+  Model<2> m_restart = build_model<2>(c);
+  const RunSummary rest = run_simulation<2>(m_restart, c, r);
+  ASSERT_EQ(rest.stages.size(), 1u) << "the restart began in the first stage again";
+  EXPECT_EQ(rest.stages[0].name, "after");
+  EXPECT_EQ(rest.stages[0].start_step, all.stages[0].end_step);
+  EXPECT_EQ(rest.stages[0].end_step, all.stages[1].end_step);
+  ASSERT_EQ(m_restart.particles.size(), m_all.particles.size());
+  for (std::size_t i = 0; i < m_all.particles.size(); ++i)
+    for (int d = 0; d < 2; ++d) ASSERT_EQ(m_restart.particles.x_p[i][d], m_all.particles.x_p[i][d]) << "particle slot " << i;
+}
+
 // A signal at the very step a stage ends (here at rest) is taken after that end: the checkpoint it
 // leaves holds the stage as ended, so the restart begins the next stage at once and ends where the
 // run without the signal does. Before, the checkpoint held the stage as running, with its rest
@@ -696,19 +715,7 @@ TEST(Stages, ASignalAtTheStepAStageEndsKeepsThatEnd) {
   for (const int s : {SIGINT, SIGTERM, SIGHUP}) std::signal(s, SIG_DFL);
   ASSERT_TRUE(raised);
   ASSERT_TRUE(interrupted) << "the signal did not stop the run";
-
-  RunOptions r;
-  r.output_directory = tmp.path.string();
-  r.restart = (tmp.path / "checkpoint.tsuchi").string();
-  Model<2> m_restart = build_model<2>(c);
-  const RunSummary rest = run_simulation<2>(m_restart, c, r);
-  ASSERT_EQ(rest.stages.size(), 1u) << "the restart began in the first stage again";
-  EXPECT_EQ(rest.stages[0].name, "after");
-  EXPECT_EQ(rest.stages[0].start_step, all.stages[0].end_step);
-  EXPECT_EQ(rest.stages[0].end_step, all.stages[1].end_step);
-  ASSERT_EQ(m_restart.particles.size(), m_all.particles.size());
-  for (std::size_t i = 0; i < m_all.particles.size(); ++i)
-    for (int d = 0; d < 2; ++d) ASSERT_EQ(m_restart.particles.x_p[i][d], m_all.particles.x_p[i][d]) << "particle slot " << i;
+  expect_the_restart_begins_the_next_stage(c, tmp, all, m_all);
 }
 
 // The same for a recorder's stop bound met at the step a stage ends: the stage's end is taken (its
@@ -749,17 +756,7 @@ TEST(Stages, ARecorderStopAtTheStepAStageEndsKeepsThatEnd) {
   EXPECT_EQ(s.steps, E);
   ASSERT_EQ(s.stages.size(), 1u) << "the stage's end was not taken";
   EXPECT_EQ(s.stages[0].end, "at rest");
-
-  RunOptions r;
-  r.output_directory = tmp.path.string();
-  r.restart = (tmp.path / "checkpoint.tsuchi").string();
-  Model<2> m_restart = build_model<2>(c);
-  const RunSummary rest = run_simulation<2>(m_restart, c, r);
-  ASSERT_EQ(rest.stages.size(), 1u) << "the restart began in the first stage again";
-  EXPECT_EQ(rest.stages[0].name, "after");
-  EXPECT_EQ(rest.stages[0].end_step, all.stages[1].end_step);
-  for (std::size_t i = 0; i < m_all.particles.size(); ++i)
-    for (int d = 0; d < 2; ++d) ASSERT_EQ(m_restart.particles.x_p[i][d], m_all.particles.x_p[i][d]) << "particle slot " << i;
+  expect_the_restart_begins_the_next_stage(c, tmp, all, m_all);
 }
 
 TEST(Stages, AtRestIsAnEquilibriumKey) {

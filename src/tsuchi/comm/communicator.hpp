@@ -15,9 +15,6 @@
 
 namespace tsuchi::comm {
 
-// Whether this build can run on several processes.
-bool built_with_mpi();
-
 // MPI for the life of the program: started when a launcher (mpirun, mpiexec, srun) started the
 // process, so that a plain `tsuchi run` neither starts MPI nor pays for it. Only the main thread
 // communicates (MPI_THREAD_FUNNELED): between the OpenMP regions, never inside them.
@@ -27,11 +24,9 @@ class Session {
   ~Session();
   Session(const Session&) = delete;
   Session& operator=(const Session&) = delete;
-  // Whether MPI was started (a launched process of an MPI build).
-  bool started() const { return started_; }
 
  private:
-  bool started_ = false;
+  bool started_ = false;  // MPI was started here (a launched process of an MPI build): ended here
 };
 
 // Whether the environment says a launcher started this process (Open MPI's, PMIx or PMI's variables).

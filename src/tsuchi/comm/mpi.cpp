@@ -6,7 +6,6 @@
 
 #include <climits>
 #include <cstdint>
-#include <cstdlib>
 #include <stdexcept>
 #include <string>
 
@@ -31,8 +30,6 @@ int count_of(std::size_t bytes) {
 }
 
 }  // namespace
-
-bool built_with_mpi() { return true; }
 
 bool launched() { return detail::launcher_variables_set(); }
 

@@ -2,10 +2,7 @@
 #include "tsuchi/comm/communicator.hpp"
 #include "tsuchi/comm/one_process.hpp"
 
-
 namespace tsuchi::comm {
-
-bool built_with_mpi() { return false; }
 
 bool launched() { return detail::launcher_variables_set(); }
 
